@@ -1,0 +1,2 @@
+//! The `geodesics` command-line tool.
+fn main() {}

@@ -1,0 +1,1 @@
+//! Mesh readers and field writers (being built).

@@ -1,0 +1,336 @@
+//! A validated triangle mesh with half-edge connectivity in flat index arrays,
+//! built for geodesic solvers.
+//!
+//! Input comes as [`IndexedTriangles`] (positions plus index triples, as a file
+//! stores them). [`Mesh::build`] validates it, optionally welds exactly equal
+//! positions, orients every connected component consistently, links the
+//! half-edges, splits non-manifold "pinch" vertices into one vertex per fan
+//! (see [`Mesh::pinch_group`]), and precomputes what solvers need: half-edge
+//! lengths, corner angles, vertex angle sums, boundary and saddle flags.
+//! [`Mesh::summary`] reports the statistics `geodesics info` prints.
+//!
+//! # Example
+//!
+//! ```
+//! use geodesics_mesh::{IndexedTriangles, Mesh, BuildOptions};
+//! use glam::DVec3;
+//!
+//! // A regular tetrahedron: closed, genus 0.
+//! let soup = IndexedTriangles {
+//!     positions: vec![
+//!         DVec3::new(1.0, 1.0, 1.0),
+//!         DVec3::new(1.0, -1.0, -1.0),
+//!         DVec3::new(-1.0, 1.0, -1.0),
+//!         DVec3::new(-1.0, -1.0, 1.0),
+//!     ],
+//!     triangles: vec![[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]],
+//! };
+//! let mesh = Mesh::build(soup, &BuildOptions::default()).unwrap();
+//! let s = mesh.summary();
+//! assert_eq!((s.vertices, s.faces, s.euler_characteristic, s.genus), (4, 4, 2, Some(0)));
+//! // Every corner of a regular tetrahedron is 60 degrees.
+//! assert!((mesh.angle_sum(0) - std::f64::consts::PI).abs() < 1e-12);
+//! ```
+//!
+//! # Invariants
+//!
+//! - Building never panics on any input; defects are [`MeshError`]s that name
+//!   the offending face, vertex or edge.
+//! - Half-edge `3 * f + i` runs from corner `i` to corner `(i + 1) % 3` of face
+//!   `f`; faces are counter-clockwise seen from outside of a consistently
+//!   oriented component; [`Mesh::twin`] is `None` exactly on boundary.
+//! - Vertices `0..input_vertex_count()` keep the numbering of the input (after
+//!   welding, if asked); pinch-split copies are appended after them.
+
+mod build;
+mod error;
+mod summary;
+mod union_find;
+
+pub use build::BuildOptions;
+pub use error::MeshError;
+pub use summary::{AnisotropyStats, MeshSummary};
+
+use glam::DVec3;
+
+/// Positions and triangles exactly as a file stores them: the input of
+/// [`Mesh::build`] and the output of every reader in `geodesics-io`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct IndexedTriangles {
+    /// Vertex positions, in file order (unreferenced vertices included).
+    pub positions: Vec<DVec3>,
+    /// Triangles as indices into `positions`.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Sentinel for "no half-edge" in the flat arrays.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// A validated, consistently oriented triangle mesh with half-edge topology.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    positions: Vec<DVec3>,
+    faces: Vec<[u32; 3]>,
+    /// Per half-edge: the opposite half-edge, or `NONE` on boundary.
+    twin: Vec<u32>,
+    /// Per half-edge: its length.
+    length: Vec<f64>,
+    /// Per corner (indexed like half-edges, `3 * f + i`): interior angle at corner `i`.
+    corner_angle: Vec<f64>,
+    /// Per vertex: sum of its corner angles.
+    angle_sum: Vec<f64>,
+    /// Per vertex: one outgoing half-edge; for a boundary vertex the one whose
+    /// clockwise rotation ends on the boundary (so walking counter-clockwise
+    /// with `twin(prev(h))` from it visits the whole fan). `NONE` if unreferenced.
+    vertex_half_edge: Vec<u32>,
+    /// Per vertex: lies on a boundary edge.
+    boundary: Vec<bool>,
+    /// Per vertex: the input vertex it was split from (itself for most vertices).
+    pinch_origin: Vec<u32>,
+    /// Per vertex: index of its connected component (edge-connected), `NONE` if unreferenced.
+    component: Vec<u32>,
+    input_vertex_count: usize,
+    summary: MeshSummary,
+}
+
+impl Mesh {
+    /// Number of vertices, including pinch-split copies.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of vertices of the input (after welding): results are reported
+    /// for these, in this order.
+    pub fn input_vertex_count(&self) -> usize {
+        self.input_vertex_count
+    }
+
+    /// Number of triangles.
+    pub fn face_count(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Number of half-edges (`3 * face_count()`).
+    pub fn half_edge_count(&self) -> usize {
+        self.twin.len()
+    }
+
+    /// Vertex positions.
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
+    /// Position of vertex `v`.
+    #[inline]
+    pub fn position(&self, v: u32) -> DVec3 {
+        self.positions[v as usize]
+    }
+
+    /// Faces (consistently oriented, pinch vertices replaced by their fan copies).
+    pub fn faces(&self) -> &[[u32; 3]] {
+        &self.faces
+    }
+
+    /// Corners of face `f`.
+    #[inline]
+    pub fn face(&self, f: u32) -> [u32; 3] {
+        self.faces[f as usize]
+    }
+
+    /// Face of half-edge `h`.
+    #[inline]
+    pub fn face_of(h: u32) -> u32 {
+        h / 3
+    }
+
+    /// Next half-edge in the same face.
+    #[inline]
+    pub fn next(h: u32) -> u32 {
+        if h % 3 == 2 { h - 2 } else { h + 1 }
+    }
+
+    /// Previous half-edge in the same face.
+    #[inline]
+    pub fn prev(h: u32) -> u32 {
+        if h % 3 == 0 { h + 2 } else { h - 1 }
+    }
+
+    /// Vertex at the start of half-edge `h`.
+    #[inline]
+    pub fn tail(&self, h: u32) -> u32 {
+        self.faces[(h / 3) as usize][(h % 3) as usize]
+    }
+
+    /// Vertex at the end of half-edge `h`.
+    #[inline]
+    pub fn head(&self, h: u32) -> u32 {
+        self.tail(Self::next(h))
+    }
+
+    /// Vertex of the face of `h` opposite to `h`.
+    #[inline]
+    pub fn opposite_vertex(&self, h: u32) -> u32 {
+        self.tail(Self::prev(h))
+    }
+
+    /// The half-edge on the other side of `h`, `None` on boundary.
+    #[inline]
+    pub fn twin(&self, h: u32) -> Option<u32> {
+        let t = self.twin[h as usize];
+        (t != NONE).then_some(t)
+    }
+
+    /// Length of half-edge `h`.
+    #[inline]
+    pub fn length(&self, h: u32) -> f64 {
+        self.length[h as usize]
+    }
+
+    /// Interior angle of the face of `h` at the tail of `h` (corner `h`).
+    #[inline]
+    pub fn corner_angle(&self, h: u32) -> f64 {
+        self.corner_angle[h as usize]
+    }
+
+    /// Sum of the corner angles at vertex `v`.
+    #[inline]
+    pub fn angle_sum(&self, v: u32) -> f64 {
+        self.angle_sum[v as usize]
+    }
+
+    /// Whether `v` lies on a boundary edge.
+    #[inline]
+    pub fn is_boundary(&self, v: u32) -> bool {
+        self.boundary[v as usize]
+    }
+
+    /// Whether `v` is a saddle: interior with angle sum above 2π.
+    #[inline]
+    pub fn is_saddle(&self, v: u32) -> bool {
+        !self.boundary[v as usize] && self.angle_sum[v as usize] > std::f64::consts::TAU
+    }
+
+    /// Whether `v` belongs to at least one face.
+    #[inline]
+    pub fn is_referenced(&self, v: u32) -> bool {
+        self.vertex_half_edge[v as usize] != NONE
+    }
+
+    /// The input vertex that `v` belongs to: `v` itself unless `v` is a copy
+    /// made when splitting a pinch vertex into its fans.
+    #[inline]
+    pub fn pinch_origin(&self, v: u32) -> u32 {
+        self.pinch_origin[v as usize]
+    }
+
+    /// Whether `v` is one fan of a non-manifold (pinch) vertex. The fans of one
+    /// pinch vertex are separate vertices of this mesh at the same position;
+    /// a geodesic may pass from one to another, so solvers give them one
+    /// distance and treat each as a point source (like a saddle).
+    pub fn is_pinch(&self, v: u32) -> bool {
+        !self.pinch_group(v).is_empty()
+    }
+
+    /// The other fan copies of the pinch vertex `v` belongs to (empty for a
+    /// manifold vertex). Allocation-free iteration is available through
+    /// [`Mesh::pinch_copies`].
+    pub fn pinch_group(&self, v: u32) -> Vec<u32> {
+        let origin = self.pinch_origin[v as usize];
+        if self.summary.nonmanifold_vertices == 0 {
+            return Vec::new();
+        }
+        let mut group: Vec<u32> = self.pinch_copies(origin).filter(|&u| u != v).collect();
+        if origin != v {
+            group.push(origin);
+        }
+        group.sort_unstable();
+        group
+    }
+
+    /// Copies split off input vertex `origin` (not including `origin` itself).
+    pub fn pinch_copies(&self, origin: u32) -> impl Iterator<Item = u32> + '_ {
+        (self.input_vertex_count..self.positions.len())
+            .map(|v| v as u32)
+            .filter(move |&v| self.pinch_origin[v as usize] == origin)
+    }
+
+    /// Connected component (by shared edges) of vertex `v`, `None` if unreferenced.
+    pub fn component(&self, v: u32) -> Option<u32> {
+        let c = self.component[v as usize];
+        (c != NONE).then_some(c)
+    }
+
+    /// One outgoing half-edge of `v`, `None` if `v` is unreferenced. For a
+    /// boundary vertex it is the first of its fan in counter-clockwise order.
+    pub fn vertex_half_edge(&self, v: u32) -> Option<u32> {
+        let h = self.vertex_half_edge[v as usize];
+        (h != NONE).then_some(h)
+    }
+
+    /// Outgoing half-edges of `v` in counter-clockwise order around `v`.
+    pub fn outgoing(&self, v: u32) -> OutgoingHalfEdges<'_> {
+        let start = self.vertex_half_edge[v as usize];
+        OutgoingHalfEdges {
+            mesh: self,
+            start,
+            current: start,
+        }
+    }
+
+    /// Statistics computed while building (what `geodesics info` prints).
+    pub fn summary(&self) -> &MeshSummary {
+        &self.summary
+    }
+
+    /// Length of the bounding-box diagonal: the scale of the mesh, for
+    /// tolerances.
+    pub fn bbox_diagonal(&self) -> f64 {
+        self.summary.bbox_diagonal
+    }
+
+    /// Average half-edge length over all faces.
+    pub fn average_edge_length(&self) -> f64 {
+        if self.length.is_empty() {
+            0.0
+        } else {
+            self.length.iter().sum::<f64>() / self.length.len() as f64
+        }
+    }
+
+    /// Folds per-vertex values of this mesh (pinch copies included) back onto
+    /// the input vertices: each input vertex gets the minimum over its copies.
+    pub fn fold_to_input<T: Copy + PartialOrd>(&self, values: &[T]) -> Vec<T> {
+        let mut out = values[..self.input_vertex_count].to_vec();
+        for v in self.input_vertex_count..values.len().min(self.positions.len()) {
+            let o = self.pinch_origin[v] as usize;
+            if values[v] < out[o] {
+                out[o] = values[v];
+            }
+        }
+        out
+    }
+}
+
+/// Iterator over the outgoing half-edges of a vertex, counter-clockwise.
+pub struct OutgoingHalfEdges<'a> {
+    mesh: &'a Mesh,
+    start: u32,
+    current: u32,
+}
+
+impl Iterator for OutgoingHalfEdges<'_> {
+    type Item = u32;
+
+    fn next(&mut self) -> Option<u32> {
+        if self.current == NONE {
+            return None;
+        }
+        let h = self.current;
+        // Counter-clockwise around the tail: the incoming edge of this face,
+        // then across it.
+        let incoming = Mesh::prev(h);
+        let t = self.mesh.twin[incoming as usize];
+        self.current = if t == self.start { NONE } else { t };
+        Some(h)
+    }
+}
