@@ -112,6 +112,7 @@ impl Mesh {
             positions,
             faces,
             twin,
+            pinch_ring: pinch_rings(&pinch_origin),
             pinch_origin,
             input_vertex_count,
             summary: MeshSummary::default(),
@@ -368,7 +369,8 @@ impl EdgeTable {
                 j += 1;
             }
             if j - i > 2 {
-                let mut faces_on: Vec<usize> = order[i..j].iter().map(|&h| h as usize / 3).collect();
+                let mut faces_on: Vec<usize> =
+                    order[i..j].iter().map(|&h| h as usize / 3).collect();
                 faces_on.sort_unstable();
                 return Err(MeshError::NonManifoldEdge {
                     a: (k >> 32) as u32,
@@ -451,7 +453,11 @@ fn orient_components(faces: &mut [[u32; 3]], edges: &EdgeTable) -> Result<Vec<bo
 fn link_twins(edges: &EdgeTable, flipped: &[bool]) -> Vec<u32> {
     let current_slot = |h: u32| {
         let f = h / 3;
-        if flipped[f as usize] { 3 * f + 2 - h % 3 } else { h }
+        if flipped[f as usize] {
+            3 * f + 2 - h % 3
+        } else {
+            h
+        }
     };
     let mut twin = vec![NONE; edges.edge_of.len()];
     for &[s0, s1] in &edges.sides {
@@ -462,6 +468,21 @@ fn link_twins(edges: &EdgeTable, flipped: &[bool]) -> Vec<u32> {
         }
     }
     twin
+}
+
+/// Links the fans of each pinch vertex into a ring (origin -> copies -> origin).
+fn pinch_rings(origin: &[u32]) -> Vec<u32> {
+    let mut ring = vec![NONE; origin.len()];
+    // Copies are appended in increasing index; chain each after the last one seen.
+    let mut last: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
+    for (v, &o) in origin.iter().enumerate() {
+        if o as usize != v {
+            let prev = last.insert(o, v as u32).unwrap_or(o);
+            ring[prev as usize] = v as u32;
+            ring[v] = o;
+        }
+    }
+    ring
 }
 
 /// Groups the corners at each vertex into fans (corners linked across interior

@@ -59,7 +59,9 @@ pub enum MeshError {
         faces: Vec<usize>,
     },
     /// A connected piece cannot be oriented (a Möbius strip, a Klein bottle).
-    #[error("non-orientable surface: face {face} cannot be oriented consistently with face {neighbour} across the edge {a}-{b}")]
+    #[error(
+        "non-orientable surface: face {face} cannot be oriented consistently with face {neighbour} across the edge {a}-{b}"
+    )]
     NonOrientable {
         /// A face whose orientation conflicts.
         face: usize,

@@ -87,6 +87,8 @@ pub struct Mesh {
     boundary: Vec<bool>,
     /// Per vertex: the input vertex it was split from (itself for most vertices).
     pinch_origin: Vec<u32>,
+    /// Per vertex: the next fan of the same pinch vertex (a ring), `NONE` if manifold.
+    pinch_ring: Vec<u32>,
     /// Per vertex: index of its connected component (edge-connected), `NONE` if unreferenced.
     component: Vec<u32>,
     input_vertex_count: usize,
@@ -227,31 +229,27 @@ impl Mesh {
     /// pinch vertex are separate vertices of this mesh at the same position;
     /// a geodesic may pass from one to another, so solvers give them one
     /// distance and treat each as a point source (like a saddle).
+    #[inline]
     pub fn is_pinch(&self, v: u32) -> bool {
-        !self.pinch_group(v).is_empty()
+        self.pinch_ring[v as usize] != NONE
     }
 
-    /// The other fan copies of the pinch vertex `v` belongs to (empty for a
-    /// manifold vertex). Allocation-free iteration is available through
-    /// [`Mesh::pinch_copies`].
+    /// The other fans of the pinch vertex `v` belongs to, without allocating
+    /// (empty for a manifold vertex).
+    pub fn pinch_fans(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        let first = self.pinch_ring[v as usize];
+        std::iter::successors((first != NONE).then_some(first), move |&u| {
+            let n = self.pinch_ring[u as usize];
+            (n != v).then_some(n)
+        })
+    }
+
+    /// The other fans of the pinch vertex `v` belongs to, sorted (empty for a
+    /// manifold vertex).
     pub fn pinch_group(&self, v: u32) -> Vec<u32> {
-        let origin = self.pinch_origin[v as usize];
-        if self.summary.nonmanifold_vertices == 0 {
-            return Vec::new();
-        }
-        let mut group: Vec<u32> = self.pinch_copies(origin).filter(|&u| u != v).collect();
-        if origin != v {
-            group.push(origin);
-        }
+        let mut group: Vec<u32> = self.pinch_fans(v).collect();
         group.sort_unstable();
         group
-    }
-
-    /// Copies split off input vertex `origin` (not including `origin` itself).
-    pub fn pinch_copies(&self, origin: u32) -> impl Iterator<Item = u32> + '_ {
-        (self.input_vertex_count..self.positions.len())
-            .map(|v| v as u32)
-            .filter(move |&v| self.pinch_origin[v as usize] == origin)
     }
 
     /// Connected component (by shared edges) of vertex `v`, `None` if unreferenced.

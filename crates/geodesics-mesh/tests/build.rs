@@ -1,0 +1,249 @@
+//! Construction, validation and statistics of `Mesh` on small explicit meshes.
+
+use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError};
+use glam::DVec3;
+
+fn soup(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> IndexedTriangles {
+    IndexedTriangles {
+        positions: positions.iter().map(|&p| DVec3::from_array(p)).collect(),
+        triangles: triangles.to_vec(),
+    }
+}
+
+fn build(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Mesh, MeshError> {
+    Mesh::build(soup(positions, triangles), &BuildOptions::default())
+}
+
+const TET_P: [[f64; 3]; 4] = [
+    [1.0, 1.0, 1.0],
+    [1.0, -1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+];
+const TET_T: [[u32; 3]; 4] = [[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]];
+
+/// Two unit squares' worth of triangles: an open square split by a diagonal.
+const SQUARE_P: [[f64; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+];
+const SQUARE_T: [[u32; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
+
+#[test]
+fn tetrahedron_is_closed_genus_zero_and_linked() {
+    let mesh = build(&TET_P, &TET_T).unwrap();
+    let s = mesh.summary();
+    assert_eq!(s.vertices, 4);
+    assert_eq!(s.faces, 4);
+    assert_eq!(s.edges, 6);
+    assert_eq!(s.components, 1);
+    assert_eq!(s.boundary_loops, 0);
+    assert_eq!(s.euler_characteristic, 2);
+    assert_eq!(s.genus, Some(0));
+    assert_eq!(s.saddle_vertices, 0);
+    assert_eq!(s.reoriented_faces, 0);
+    for h in 0..mesh.half_edge_count() as u32 {
+        let t = mesh.twin(h).expect("closed mesh has a twin everywhere");
+        assert_eq!(mesh.twin(t), Some(h));
+        assert_eq!(mesh.tail(t), mesh.head(h));
+        assert_eq!(mesh.head(t), mesh.tail(h));
+        assert!((mesh.length(h) - 8f64.sqrt()).abs() < 1e-15);
+        assert!((mesh.corner_angle(h) - std::f64::consts::FRAC_PI_3).abs() < 1e-14);
+    }
+    for v in 0..4 {
+        assert_eq!(mesh.outgoing(v).count(), 3);
+        assert!(mesh.outgoing(v).all(|h| mesh.tail(h) == v));
+    }
+    // Regular tetrahedron: anisotropy 1 everywhere.
+    assert!((s.anisotropy.mean - 1.0).abs() < 1e-12);
+    assert!((s.bbox_diagonal - 12f64.sqrt()).abs() < 1e-15);
+}
+
+#[test]
+fn inconsistent_orientation_is_repaired() {
+    let mut t = TET_T;
+    t[2] = [0, 3, 2]; // flipped
+    t[3] = [1, 2, 3]; // flipped
+    let mesh = build(&TET_P, &t).unwrap();
+    assert_eq!(mesh.summary().reoriented_faces, 2);
+    for h in 0..mesh.half_edge_count() as u32 {
+        let tw = mesh.twin(h).unwrap();
+        assert_eq!(mesh.tail(tw), mesh.head(h));
+    }
+}
+
+#[test]
+fn open_square_has_one_boundary_loop() {
+    let mesh = build(&SQUARE_P, &SQUARE_T).unwrap();
+    let s = mesh.summary();
+    assert_eq!((s.boundary_loops, s.boundary_vertices), (1, 4));
+    assert_eq!(s.euler_characteristic, 1);
+    assert_eq!(s.genus, Some(0));
+    for v in 0..4 {
+        assert!(mesh.is_boundary(v));
+        assert!(!mesh.is_saddle(v));
+        // The fan walk from the stored half-edge visits every outgoing edge.
+        let around: Vec<u32> = mesh.outgoing(v).collect();
+        let expected = if v == 0 || v == 2 { 2 } else { 1 };
+        assert_eq!(around.len(), expected, "vertex {v}");
+    }
+    assert!((mesh.angle_sum(0) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+}
+
+#[test]
+fn unreferenced_vertices_are_kept_and_counted() {
+    let mut p = SQUARE_P.to_vec();
+    p.push([5.0, 5.0, 5.0]);
+    let mesh = build(&p, &SQUARE_T).unwrap();
+    assert_eq!(mesh.summary().vertices, 5);
+    assert_eq!(mesh.summary().unreferenced_vertices, 1);
+    assert!(!mesh.is_referenced(4));
+    assert_eq!(mesh.component(4), None);
+    // The unreferenced vertex does not stretch the bounding box.
+    assert!((mesh.bbox_diagonal() - 2f64.sqrt()).abs() < 1e-15);
+}
+
+#[test]
+fn pinch_vertex_is_split_into_fans() {
+    // Two tetrahedra sharing vertex 0 only.
+    let mut p = TET_P.to_vec();
+    p.extend([[3.0, 1.0, 1.0], [3.0, 3.0, 3.0], [1.0, 3.0, 1.0]]);
+    let mut t = TET_T.to_vec();
+    // Second tetrahedron: 0,4,5,6 (orientation need not be right).
+    t.extend([[0, 4, 5], [0, 5, 6], [0, 6, 4], [4, 6, 5]]);
+    let mesh = build(&p, &t).unwrap();
+    let s = mesh.summary();
+    assert_eq!(s.nonmanifold_vertices, 1);
+    assert_eq!(s.genus, None);
+    assert_eq!(s.components, 1);
+    assert_eq!(s.euler_characteristic, 7 - 12 + 8);
+    assert_eq!(mesh.vertex_count(), 8);
+    assert_eq!(mesh.input_vertex_count(), 7);
+    assert_eq!(mesh.pinch_origin(7), 0);
+    assert_eq!(mesh.pinch_group(0), vec![7]);
+    assert_eq!(mesh.pinch_group(7), vec![0]);
+    assert!(mesh.is_pinch(0) && !mesh.is_pinch(1));
+    assert_eq!(mesh.position(7), mesh.position(0));
+    // Each fan is a closed cone of three faces.
+    assert_eq!(mesh.outgoing(0).count(), 3);
+    assert_eq!(mesh.outgoing(7).count(), 3);
+    // Edge-connected pieces stay apart, the input-vertex count sees one.
+    assert_ne!(mesh.component(1), mesh.component(4));
+    let folded = mesh.fold_to_input(&[5.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 2.0]);
+    assert_eq!(folded, vec![2.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]);
+}
+
+#[test]
+fn weld_merges_equal_positions_and_drops_collapsed_faces() {
+    // The square with vertex 2 duplicated as 4, plus a face that collapses.
+    let mut p = SQUARE_P.to_vec();
+    p.push([1.0, 1.0, 0.0]);
+    let t = [[0, 1, 2], [0, 4, 3], [2, 4, 1]];
+    let as_stored = build(&p, &t).unwrap();
+    assert_eq!(as_stored.summary().duplicate_positions, 1);
+    assert_eq!(as_stored.summary().zero_area_faces, 1);
+    assert_eq!(as_stored.summary().components, 1);
+    let welded = Mesh::build(soup(&p, &t), &BuildOptions { weld: true }).unwrap();
+    let s = welded.summary();
+    assert_eq!((s.vertices, s.faces, s.welded_collapsed_faces), (4, 2, 1));
+    assert_eq!(s.boundary_loops, 1);
+    assert_eq!(s.zero_area_faces, 0);
+}
+
+#[test]
+fn saddle_vertex_is_detected() {
+    // A vertex surrounded by a zig-zag ring: angle sum above 2π.
+    let n = 8;
+    let mut p = vec![[0.0, 0.0, 0.0]];
+    for i in 0..n {
+        let a = i as f64 * std::f64::consts::TAU / n as f64;
+        let z = if i % 2 == 0 { 0.8 } else { -0.8 };
+        p.push([a.cos(), a.sin(), z]);
+    }
+    let t: Vec<[u32; 3]> = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
+    let mesh = build(&p, &t).unwrap();
+    assert!(mesh.angle_sum(0) > std::f64::consts::TAU);
+    assert!(mesh.is_saddle(0));
+    assert_eq!(mesh.summary().saddle_vertices, 1);
+}
+
+#[test]
+fn defects_are_named() {
+    assert_eq!(
+        build(&TET_P, &[]).unwrap_err(),
+        MeshError::Empty { vertices: 4 }
+    );
+    assert_eq!(
+        build(&TET_P, &[[0, 1, 9]]).unwrap_err(),
+        MeshError::IndexOutOfRange {
+            face: 0,
+            index: 9,
+            vertices: 4
+        }
+    );
+    assert_eq!(
+        build(&TET_P, &[[0, 1, 2], [1, 1, 3]]).unwrap_err(),
+        MeshError::RepeatedVertex {
+            face: 1,
+            corners: [1, 1, 3]
+        }
+    );
+    let mut nan = TET_P;
+    nan[2][1] = f64::NAN;
+    let err = build(&nan, &TET_T).unwrap_err();
+    assert!(matches!(
+        err,
+        MeshError::NonFiniteCoordinate { vertex: 2, .. }
+    ));
+    assert!(err.to_string().contains("vertex 2"));
+    // Three faces on edge 0-1.
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let err = build(&p, &[[0, 1, 2], [1, 0, 3], [0, 1, 4]]).unwrap_err();
+    assert_eq!(
+        err,
+        MeshError::NonManifoldEdge {
+            a: 0,
+            b: 1,
+            faces: vec![0, 1, 2]
+        }
+    );
+    assert_eq!(
+        err.to_string(),
+        "non-manifold edge between vertices 0 and 1: shared by faces [0, 1, 2]"
+    );
+}
+
+#[test]
+fn moebius_strip_is_refused() {
+    let n = 12;
+    let mut p = Vec::new();
+    for i in 0..n {
+        let a = i as f64 * std::f64::consts::TAU / n as f64;
+        let half = a / 2.0;
+        for s in [-0.3, 0.3] {
+            let r = 2.0 + s * half.cos();
+            p.push([r * a.cos(), r * a.sin(), s * half.sin()]);
+        }
+    }
+    let mut t = Vec::new();
+    for i in 0..n as u32 {
+        let (a0, a1) = (2 * i, 2 * i + 1);
+        let (b0, b1) = if i + 1 < n as u32 {
+            (2 * i + 2, 2 * i + 3)
+        } else {
+            (1, 0) // the half twist
+        };
+        t.push([a0, b0, b1]);
+        t.push([a0, b1, a1]);
+    }
+    let err = build(&p, &t).unwrap_err();
+    assert!(matches!(err, MeshError::NonOrientable { .. }), "{err}");
+}
