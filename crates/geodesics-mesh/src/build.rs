@@ -496,8 +496,7 @@ fn split_pinch_vertices(
 ) -> (Vec<u32>, usize) {
     let n = faces.len() * 3;
     let mut fans = UnionFind::new(n);
-    for h in 0..n {
-        let t = twin[h];
+    for (h, &t) in twin.iter().enumerate() {
         if t != NONE {
             // Corner h is at tail(h); across the edge, tail(h) is the head of
             // t, i.e. the corner at next(t).

@@ -154,7 +154,7 @@ impl Mesh {
     /// Previous half-edge in the same face.
     #[inline]
     pub fn prev(h: u32) -> u32 {
-        if h % 3 == 0 { h + 2 } else { h - 1 }
+        if h.is_multiple_of(3) { h + 2 } else { h - 1 }
     }
 
     /// Vertex at the start of half-edge `h`.
@@ -299,10 +299,10 @@ impl Mesh {
     /// the input vertices: each input vertex gets the minimum over its copies.
     pub fn fold_to_input<T: Copy + PartialOrd>(&self, values: &[T]) -> Vec<T> {
         let mut out = values[..self.input_vertex_count].to_vec();
-        for v in self.input_vertex_count..values.len().min(self.positions.len()) {
-            let o = self.pinch_origin[v] as usize;
-            if values[v] < out[o] {
-                out[o] = values[v];
+        let copies = values.iter().zip(&self.pinch_origin);
+        for (&value, &origin) in copies.skip(self.input_vertex_count) {
+            if value < out[origin as usize] {
+                out[origin as usize] = value;
             }
         }
         out
