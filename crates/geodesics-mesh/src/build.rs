@@ -68,9 +68,10 @@ impl Mesh {
             }
         }
 
-        let duplicate_positions = positions.len() - distinct_position_count(&positions);
+        let mut duplicate_positions = positions.len() - distinct_position_count(&positions);
         let mut faces = triangles;
         let mut welded_collapsed_faces = 0;
+        let mut welded_vertices = 0;
         if options.weld {
             let (welded, remap) = weld_positions(&positions);
             positions = welded;
@@ -81,6 +82,8 @@ impl Mesh {
                 .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
                 .collect();
             welded_collapsed_faces = before - faces.len();
+            welded_vertices = duplicate_positions;
+            duplicate_positions = 0;
             if faces.is_empty() {
                 return Err(MeshError::Empty {
                     vertices: positions.len(),
@@ -93,7 +96,7 @@ impl Mesh {
             }
         }
 
-        let edges = EdgeTable::new(&faces)?;
+        let edges = EdgeTable::new(&faces, positions.len())?;
         let flipped = orient_components(&mut faces, &edges)?;
         let reoriented_faces = flipped.iter().filter(|&&f| f).count();
         let twin = link_twins(&edges, &flipped);
@@ -123,7 +126,7 @@ impl Mesh {
             edges.edge_count,
             nonmanifold_vertices,
             duplicate_positions,
-            welded_collapsed_faces,
+            [welded_vertices, welded_collapsed_faces],
             reoriented_faces,
         );
         Ok(mesh)
@@ -195,7 +198,7 @@ impl Mesh {
         edges: usize,
         nonmanifold_vertices: usize,
         duplicate_positions: usize,
-        welded_collapsed_faces: usize,
+        [welded_vertices, welded_collapsed_faces]: [usize; 2],
         reoriented_faces: usize,
     ) -> MeshSummary {
         let nin = self.input_vertex_count;
@@ -280,6 +283,7 @@ impl Mesh {
             zero_area_faces,
             duplicate_positions,
             unreferenced_vertices: nin - used,
+            welded_vertices,
             welded_collapsed_faces,
             reoriented_faces,
             anisotropy,
@@ -349,41 +353,59 @@ struct EdgeTable {
 }
 
 impl EdgeTable {
-    fn new(faces: &[[u32; 3]]) -> Result<Self, MeshError> {
+    /// Groups half-edge slots by undirected vertex pair with a counting
+    /// sort on the smaller vertex (linear time; buckets hold a vertex's few
+    /// edges), then by the larger vertex inside each bucket.
+    fn new(faces: &[[u32; 3]], vertex_count: usize) -> Result<Self, MeshError> {
         let n = faces.len() * 3;
-        // Sort half-edge slots by their undirected vertex pair.
-        let key = |h: usize| {
+        let ends = |h: usize| {
             let t = faces[h / 3];
             let (a, b) = (t[h % 3], t[(h + 1) % 3]);
-            ((a.min(b) as u64) << 32) | a.max(b) as u64
+            (a.min(b), a.max(b))
         };
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        order.sort_unstable_by_key(|&h| key(h as usize));
+        let mut start = vec![0u32; vertex_count + 1];
+        for h in 0..n {
+            start[ends(h).0 as usize + 1] += 1;
+        }
+        for v in 0..vertex_count {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut bucketed = vec![0u32; n];
+        for h in 0..n {
+            let lo = ends(h).0 as usize;
+            bucketed[fill[lo] as usize] = h as u32;
+            fill[lo] += 1;
+        }
         let mut edge_of = vec![NONE; n];
         let mut sides = Vec::with_capacity(n / 2 + 1);
-        let mut i = 0;
-        while i < n {
-            let k = key(order[i] as usize);
-            let mut j = i + 1;
-            while j < n && key(order[j] as usize) == k {
-                j += 1;
+        for v in 0..vertex_count {
+            let bucket = &mut bucketed[start[v] as usize..start[v + 1] as usize];
+            bucket.sort_unstable_by_key(|&h| (ends(h as usize).1, h));
+            let mut i = 0;
+            while i < bucket.len() {
+                let hi = ends(bucket[i] as usize).1;
+                let mut j = i + 1;
+                while j < bucket.len() && ends(bucket[j] as usize).1 == hi {
+                    j += 1;
+                }
+                if j - i > 2 {
+                    let mut faces_on: Vec<usize> =
+                        bucket[i..j].iter().map(|&h| h as usize / 3).collect();
+                    faces_on.sort_unstable();
+                    return Err(MeshError::NonManifoldEdge {
+                        a: v as u32,
+                        b: hi,
+                        faces: faces_on,
+                    });
+                }
+                let e = sides.len() as u32;
+                for &h in &bucket[i..j] {
+                    edge_of[h as usize] = e;
+                }
+                sides.push([bucket[i], if j - i == 2 { bucket[i + 1] } else { NONE }]);
+                i = j;
             }
-            if j - i > 2 {
-                let mut faces_on: Vec<usize> =
-                    order[i..j].iter().map(|&h| h as usize / 3).collect();
-                faces_on.sort_unstable();
-                return Err(MeshError::NonManifoldEdge {
-                    a: (k >> 32) as u32,
-                    b: k as u32,
-                    faces: faces_on,
-                });
-            }
-            let e = sides.len() as u32;
-            for &h in &order[i..j] {
-                edge_of[h as usize] = e;
-            }
-            sides.push([order[i], if j - i == 2 { order[i + 1] } else { NONE }]);
-            i = j;
         }
         let edge_count = sides.len();
         Ok(Self {

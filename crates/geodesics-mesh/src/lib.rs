@@ -295,6 +295,20 @@ impl Mesh {
         }
     }
 
+    /// The mesh as input-numbered triangles (after welding and reorientation,
+    /// pinch copies mapped back to their input vertex): what writers of
+    /// colored meshes need.
+    pub fn to_indexed_triangles(&self) -> IndexedTriangles {
+        IndexedTriangles {
+            positions: self.positions[..self.input_vertex_count].to_vec(),
+            triangles: self
+                .faces
+                .iter()
+                .map(|f| f.map(|v| self.pinch_origin[v as usize]))
+                .collect(),
+        }
+    }
+
     /// Folds per-vertex values of this mesh (pinch copies included) back onto
     /// the input vertices: each input vertex gets the minimum over its copies.
     pub fn fold_to_input<T: Copy + PartialOrd>(&self, values: &[T]) -> Vec<T> {

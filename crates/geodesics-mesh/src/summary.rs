@@ -43,10 +43,12 @@ pub struct MeshSummary {
     /// Triangles whose area is exactly zero in double precision.
     pub zero_area_faces: usize,
     /// Vertices whose position equals an earlier vertex's exactly
-    /// (vertices − distinct positions).
+    /// (vertices − distinct positions); 0 after welding.
     pub duplicate_positions: usize,
     /// Vertices no face refers to.
     pub unreferenced_vertices: usize,
+    /// Vertices merged into an earlier one by welding.
+    pub welded_vertices: usize,
     /// Faces dropped by welding because two corners merged.
     pub welded_collapsed_faces: usize,
     /// Faces whose orientation was flipped to agree with their component.

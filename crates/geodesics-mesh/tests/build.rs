@@ -148,6 +148,7 @@ fn weld_merges_equal_positions_and_drops_collapsed_faces() {
     let welded = Mesh::build(soup(&p, &t), &BuildOptions { weld: true }).unwrap();
     let s = welded.summary();
     assert_eq!((s.vertices, s.faces, s.welded_collapsed_faces), (4, 2, 1));
+    assert_eq!((s.welded_vertices, s.duplicate_positions), (1, 0));
     assert_eq!(s.boundary_loops, 1);
     assert_eq!(s.zero_area_faces, 0);
 }
