@@ -97,7 +97,7 @@ impl Mesh {
         }
 
         let edges = EdgeTable::new(&faces, positions.len())?;
-        let flipped = orient_components(&mut faces, &edges)?;
+        let (flipped, face_component) = orient_components(&mut faces, &edges)?;
         let reoriented_faces = flipped.iter().filter(|&&f| f).count();
         let twin = link_twins(&edges, &flipped);
 
@@ -115,13 +115,14 @@ impl Mesh {
             positions,
             faces,
             twin,
+            reoriented: flipped,
             pinch_ring: pinch_rings(&pinch_origin),
             pinch_origin,
             input_vertex_count,
             summary: MeshSummary::default(),
         };
         mesh.compute_geometry();
-        mesh.compute_vertex_topology();
+        mesh.compute_vertex_topology(&face_component);
         mesh.summary = mesh.compute_summary(
             edges.edge_count,
             nonmanifold_vertices,
@@ -154,7 +155,7 @@ impl Mesh {
         }
     }
 
-    fn compute_vertex_topology(&mut self) {
+    fn compute_vertex_topology(&mut self, face_component: &[u32]) {
         let nv = self.positions.len();
         self.vertex_half_edge = vec![NONE; nv];
         self.boundary = vec![false; nv];
@@ -169,26 +170,10 @@ impl Mesh {
                 self.vertex_half_edge[v] = h;
             }
         }
-        // Components by shared edges (faces), then per vertex.
-        let nf = self.faces.len();
-        let mut uf = UnionFind::new(nf);
-        for h in 0..self.twin.len() {
-            let t = self.twin[h];
-            if t != NONE {
-                uf.union((h / 3) as u32, t / 3);
-            }
-        }
-        let mut label = vec![NONE; nf];
-        let mut next_label = 0;
         self.component = vec![NONE; nv];
-        for f in 0..nf {
-            let root = uf.find(f as u32) as usize;
-            if label[root] == NONE {
-                label[root] = next_label;
-                next_label += 1;
-            }
-            for &v in &self.faces[f] {
-                self.component[v as usize] = label[root];
+        for (f, &c) in self.faces.iter().zip(face_component) {
+            for &v in f {
+                self.component[v as usize] = c;
             }
         }
     }
@@ -202,21 +187,33 @@ impl Mesh {
         reoriented_faces: usize,
     ) -> MeshSummary {
         let nin = self.input_vertex_count;
-        // Components of referenced input vertices: pinch copies join their origin.
-        let mut uf = UnionFind::new(nin);
+        // Components of referenced input vertices. Edge-connected pieces can
+        // share a vertex only at a pinch vertex, which joins them.
         let mut referenced = vec![false; nin];
         for f in &self.faces {
-            let o = f.map(|v| self.pinch_origin[v as usize]);
-            for &v in &o {
-                referenced[v as usize] = true;
+            for &v in f {
+                referenced[self.pinch_origin[v as usize] as usize] = true;
             }
-            uf.union(o[0], o[1]);
-            uf.union(o[1], o[2]);
         }
         let used = referenced.iter().filter(|&&r| r).count();
-        let components = (0..nin as u32)
-            .filter(|&v| referenced[v as usize] && uf.find(v) == v)
-            .count();
+        let piece_count = self
+            .component
+            .iter()
+            .filter(|&&c| c != NONE)
+            .max()
+            .map_or(0, |&c| c as usize + 1);
+        let components = if nonmanifold_vertices == 0 {
+            piece_count
+        } else {
+            let mut pieces = UnionFind::new(piece_count);
+            for v in nin..self.positions.len() {
+                let origin = self.pinch_origin[v] as usize;
+                pieces.union(self.component[v], self.component[origin]);
+            }
+            (0..piece_count as u32)
+                .filter(|&c| pieces.find(c) == c)
+                .count()
+        };
 
         // Boundary loops: components of the graph of boundary edges.
         let mut buf = UnionFind::new(nin);
@@ -303,14 +300,20 @@ fn anisotropy_stats(quality: &mut [f64]) -> AnisotropyStats {
     if quality.is_empty() {
         return AnisotropyStats::default();
     }
-    quality.sort_unstable_by(f64::total_cmp);
     let n = quality.len();
-    let rank = |q: f64| quality[((q * (n - 1) as f64).round() as usize).min(n - 1)];
+    let mean = quality.iter().sum::<f64>() / n as f64;
+    let max = quality.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mut rank = |q: f64| {
+        let k = ((q * (n - 1) as f64).round() as usize).min(n - 1);
+        *quality.select_nth_unstable_by(k, f64::total_cmp).1
+    };
+    let p99 = rank(0.99);
+    let median = rank(0.5);
     AnisotropyStats {
-        mean: quality.iter().sum::<f64>() / n as f64,
-        median: rank(0.5),
-        p99: rank(0.99),
-        max: quality[n - 1],
+        mean,
+        median,
+        p99,
+        max,
     }
 }
 
@@ -342,13 +345,11 @@ fn weld_positions(positions: &[DVec3]) -> (Vec<DVec3>, Vec<u32>) {
     (welded, remap)
 }
 
-/// Undirected edges: for every half-edge slot `3f+i`, the edge id, and per
-/// edge the (at most two) half-edges on it.
+/// Undirected edges: for every half-edge slot `3f+i`, the other slot on the
+/// same edge (`NONE` on boundary), as stored in the input.
 struct EdgeTable {
-    /// Per half-edge slot: its undirected edge.
-    edge_of: Vec<u32>,
-    /// Per edge: the two half-edge slots on it (second `NONE` on boundary).
-    sides: Vec<[u32; 2]>,
+    /// Per half-edge slot: the slot on the other side of its edge.
+    mate: Vec<u32>,
     edge_count: usize,
 }
 
@@ -371,58 +372,58 @@ impl EdgeTable {
             start[v + 1] += start[v];
         }
         let mut fill = start.clone();
-        let mut bucketed = vec![0u32; n];
+        // Packed (larger vertex, slot): sorting the u64 sorts by vertex pair.
+        let mut bucketed = vec![0u64; n];
         for h in 0..n {
-            let lo = ends(h).0 as usize;
-            bucketed[fill[lo] as usize] = h as u32;
-            fill[lo] += 1;
+            let (lo, hi) = ends(h);
+            bucketed[fill[lo as usize] as usize] = (u64::from(hi) << 32) | h as u64;
+            fill[lo as usize] += 1;
         }
-        let mut edge_of = vec![NONE; n];
-        let mut sides = Vec::with_capacity(n / 2 + 1);
+        let mut mate = vec![NONE; n];
+        let mut edge_count = 0;
         for v in 0..vertex_count {
             let bucket = &mut bucketed[start[v] as usize..start[v + 1] as usize];
-            bucket.sort_unstable_by_key(|&h| (ends(h as usize).1, h));
+            bucket.sort_unstable();
             let mut i = 0;
             while i < bucket.len() {
-                let hi = ends(bucket[i] as usize).1;
+                let hi = bucket[i] >> 32;
                 let mut j = i + 1;
-                while j < bucket.len() && ends(bucket[j] as usize).1 == hi {
+                while j < bucket.len() && bucket[j] >> 32 == hi {
                     j += 1;
                 }
+                let slot = |k: usize| bucket[k] as u32;
                 if j - i > 2 {
-                    let mut faces_on: Vec<usize> =
-                        bucket[i..j].iter().map(|&h| h as usize / 3).collect();
-                    faces_on.sort_unstable();
+                    let faces_on: Vec<usize> = (i..j).map(|k| slot(k) as usize / 3).collect();
                     return Err(MeshError::NonManifoldEdge {
                         a: v as u32,
-                        b: hi,
+                        b: hi as u32,
                         faces: faces_on,
                     });
                 }
-                let e = sides.len() as u32;
-                for &h in &bucket[i..j] {
-                    edge_of[h as usize] = e;
+                if j - i == 2 {
+                    mate[slot(i) as usize] = slot(i + 1);
+                    mate[slot(i + 1) as usize] = slot(i);
                 }
-                sides.push([bucket[i], if j - i == 2 { bucket[i + 1] } else { NONE }]);
+                edge_count += 1;
                 i = j;
             }
         }
-        let edge_count = sides.len();
-        Ok(Self {
-            edge_of,
-            sides,
-            edge_count,
-        })
+        Ok(Self { mate, edge_count })
     }
 }
 
 /// Flips faces so that every edge-connected component is consistently
 /// oriented (the first face of each component keeps its orientation).
-/// Returns which faces were flipped.
-fn orient_components(faces: &mut [[u32; 3]], edges: &EdgeTable) -> Result<Vec<bool>, MeshError> {
+/// Returns which faces were flipped and each face's edge-connected component.
+fn orient_components(
+    faces: &mut [[u32; 3]],
+    edges: &EdgeTable,
+) -> Result<(Vec<bool>, Vec<u32>), MeshError> {
     let nf = faces.len();
     let mut flipped = vec![false; nf];
     let mut visited = vec![false; nf];
+    let mut component = vec![NONE; nf];
+    let mut components = 0;
     let mut stack = Vec::new();
     // Direction (tail) of half-edge slot h as stored in the input.
     let tail = |faces: &[[u32; 3]], h: u32| faces[(h / 3) as usize][(h % 3) as usize];
@@ -433,10 +434,10 @@ fn orient_components(faces: &mut [[u32; 3]], edges: &EdgeTable) -> Result<Vec<bo
         visited[seed] = true;
         stack.push(seed as u32);
         while let Some(f) = stack.pop() {
+            component[f as usize] = components;
             for i in 0..3 {
                 let h = 3 * f + i;
-                let [s0, s1] = edges.sides[edges.edge_of[h as usize] as usize];
-                let other = if s0 == h { s1 } else { s0 };
+                let other = edges.mate[h as usize];
                 if other == NONE {
                     continue;
                 }
@@ -461,13 +462,14 @@ fn orient_components(faces: &mut [[u32; 3]], edges: &EdgeTable) -> Result<Vec<bo
                 }
             }
         }
+        components += 1;
     }
     for (face, &flip) in faces.iter_mut().zip(&flipped) {
         if flip {
             face.swap(1, 2);
         }
     }
-    Ok(flipped)
+    Ok((flipped, component))
 }
 
 /// Twin half-edges after orientation. Flipping face `[a,b,c]` to `[a,c,b]`
@@ -481,12 +483,10 @@ fn link_twins(edges: &EdgeTable, flipped: &[bool]) -> Vec<u32> {
             h
         }
     };
-    let mut twin = vec![NONE; edges.edge_of.len()];
-    for &[s0, s1] in &edges.sides {
-        if s1 != NONE {
-            let (h0, h1) = (current_slot(s0), current_slot(s1));
-            twin[h0 as usize] = h1;
-            twin[h1 as usize] = h0;
+    let mut twin = vec![NONE; edges.mate.len()];
+    for (h, &m) in edges.mate.iter().enumerate() {
+        if m != NONE {
+            twin[current_slot(h as u32) as usize] = current_slot(m);
         }
     }
     twin
@@ -517,34 +517,74 @@ fn split_pinch_vertices(
     positions: &mut Vec<DVec3>,
 ) -> (Vec<u32>, usize) {
     let n = faces.len() * 3;
-    let mut fans = UnionFind::new(n);
-    for (h, &t) in twin.iter().enumerate() {
-        if t != NONE {
-            // Corner h is at tail(h); across the edge, tail(h) is the head of
-            // t, i.e. the corner at next(t).
-            fans.union(h as u32, Mesh::next(t));
-        }
-    }
     let nv = positions.len();
-    let mut fan_of_vertex = vec![NONE; nv];
-    let mut new_index: HashMap<u32, u32> = HashMap::new();
-    let mut origin: Vec<u32> = (0..nv as u32).collect();
-    let mut pinched = vec![false; nv];
+    let mut corners_at = vec![0u32; nv];
+    let mut first_corner = vec![NONE; nv];
     for h in 0..n {
-        let v = faces[h / 3][h % 3];
-        let root = fans.find(h as u32);
-        let first = fan_of_vertex[v as usize];
-        if first == NONE {
-            fan_of_vertex[v as usize] = root;
-        } else if first != root {
-            pinched[v as usize] = true;
-            let copy = *new_index.entry(root).or_insert_with(|| {
-                positions.push(positions[v as usize]);
-                origin.push(v);
-                (positions.len() - 1) as u32
-            });
-            faces[h / 3][h % 3] = copy;
+        let v = faces[h / 3][h % 3] as usize;
+        corners_at[v] += 1;
+        if first_corner[v] == NONE {
+            first_corner[v] = h as u32;
         }
     }
-    (origin, pinched.iter().filter(|&&p| p).count())
+    // A vertex is a pinch vertex when its first fan misses some of its corners.
+    let mut seen = vec![false; n];
+    let mut pinch = vec![false; nv];
+    for v in 0..nv {
+        let start = first_corner[v];
+        if start != NONE && walk_fan(start, twin, |_| {}) != corners_at[v] {
+            pinch[v] = true;
+            walk_fan(start, twin, |c| seen[c as usize] = true);
+        }
+    }
+    // Every corner of a pinch vertex outside its first fan starts a new fan.
+    let mut origin: Vec<u32> = (0..nv as u32).collect();
+    let mut fan = Vec::new();
+    for h in 0..n {
+        let v = faces[h / 3][h % 3] as usize;
+        if v >= nv || !pinch[v] || seen[h] {
+            continue;
+        }
+        positions.push(positions[v]);
+        origin.push(v as u32);
+        let copy = (positions.len() - 1) as u32;
+        fan.clear();
+        walk_fan(h as u32, twin, |c| fan.push(c));
+        for &c in &fan {
+            seen[c as usize] = true;
+            faces[(c / 3) as usize][(c % 3) as usize] = copy;
+        }
+    }
+    (origin, pinch.iter().filter(|&&p| p).count())
+}
+
+/// Visits the corners of the fan of `corner` (at the tail of half-edge
+/// `corner`), rotating both ways across interior edges; returns their count.
+fn walk_fan(corner: u32, twin: &[u32], mut visit: impl FnMut(u32)) -> u32 {
+    let mut count = 0;
+    let mut h = corner;
+    // Counter-clockwise: across the incoming edge of the current corner.
+    loop {
+        visit(h);
+        count += 1;
+        let t = twin[Mesh::prev(h) as usize];
+        if t == NONE {
+            break;
+        }
+        if t == corner {
+            return count;
+        }
+        h = t;
+    }
+    // Hit a boundary: continue clockwise from the start, across its outgoing edge.
+    let mut h = corner;
+    loop {
+        let t = twin[h as usize];
+        if t == NONE {
+            return count;
+        }
+        h = Mesh::next(t);
+        visit(h);
+        count += 1;
+    }
 }

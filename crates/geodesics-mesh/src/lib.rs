@@ -79,6 +79,8 @@ pub struct Mesh {
     corner_angle: Vec<f64>,
     /// Per vertex: sum of its corner angles.
     angle_sum: Vec<f64>,
+    /// Per face: whether building flipped it (`[a, b, c]` became `[a, c, b]`).
+    reoriented: Vec<bool>,
     /// Per vertex: one outgoing half-edge; for a boundary vertex the one whose
     /// clockwise rotation ends on the boundary (so walking counter-clockwise
     /// with `twin(prev(h))` from it visits the whole fan). `NONE` if unreferenced.
@@ -137,6 +139,13 @@ impl Mesh {
     #[inline]
     pub fn face(&self, f: u32) -> [u32; 3] {
         self.faces[f as usize]
+    }
+
+    /// Whether building flipped face `f` to orient its component
+    /// consistently: the input's corners `[a, b, c]` are then `[a, c, b]`.
+    #[inline]
+    pub fn is_reoriented(&self, f: u32) -> bool {
+        self.reoriented[f as usize]
     }
 
     /// Face of half-edge `h`.

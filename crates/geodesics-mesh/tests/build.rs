@@ -248,3 +248,33 @@ fn moebius_strip_is_refused() {
     let err = build(&p, &t).unwrap_err();
     assert!(matches!(err, MeshError::NonOrientable { .. }), "{err}");
 }
+
+#[test]
+fn three_fans_make_a_ring_of_copies() {
+    // Three tetrahedra sharing vertex 0 only.
+    let mut p = vec![[0.0, 0.0, 0.0]];
+    let mut t = Vec::new();
+    for k in 0..3 {
+        let a = k as f64 * std::f64::consts::TAU / 3.0;
+        let (c, s) = (a.cos(), a.sin());
+        let base = p.len() as u32;
+        p.extend([
+            [2.0 * c, 2.0 * s, 0.0],
+            [2.0 * c - s, 2.0 * s + c, 1.0],
+            [2.0 * c + s, 2.0 * s - c, 1.0],
+        ]);
+        let (b, q, r) = (base, base + 1, base + 2);
+        t.extend([[0, b, q], [0, q, r], [0, r, b], [b, r, q]]);
+    }
+    let mesh = build(&p, &t).unwrap();
+    assert_eq!(mesh.summary().nonmanifold_vertices, 1);
+    assert_eq!(mesh.summary().components, 1);
+    assert_eq!(mesh.vertex_count(), 12);
+    assert_eq!(mesh.pinch_group(0), vec![10, 11]);
+    assert_eq!(mesh.pinch_group(10), vec![0, 11]);
+    assert_eq!(mesh.pinch_group(11), vec![0, 10]);
+    for v in [0, 10, 11] {
+        assert_eq!(mesh.outgoing(v).count(), 3, "fan {v}");
+        assert_eq!(mesh.pinch_origin(v), 0);
+    }
+}
