@@ -1,1 +1,199 @@
-//! Helpers shared by the workspace-level integration tests.
+//! Helpers shared by the workspace-level integration tests: where the real
+//! meshes and the reference distances live, and how to read them.
+//!
+//! The meshes are in the folder named by `GEODESICS_DATA`, by default
+//! `../shared/data/meshes` beside the workspace; the reference distances in
+//! its sibling `reference/`. Tests that need them call [`data_dir`] and skip
+//! loudly when it returns `None`.
+//!
+//! ```
+//! let parsed = geodesics_tests::parse_distances("0.5\ninf\n1e-3\n").unwrap();
+//! assert_eq!(parsed, vec![0.5, f64::INFINITY, 1e-3]);
+//! ```
+
+use std::path::{Path, PathBuf};
+
+/// The folder of real meshes, or `None` (after printing a loud SKIPPED line
+/// naming `what`) when it is absent.
+pub fn data_dir(what: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("GEODESICS_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/meshes"));
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "SKIPPED {what}: mesh folder {} not found (set GEODESICS_DATA)",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// The folder of reference distances (`reference/` beside the mesh folder).
+pub fn reference_dir(data: &Path) -> PathBuf {
+    data.join("../reference")
+}
+
+/// Parses a distance file: one value per line, `inf` for unreachable.
+pub fn parse_distances(text: &str) -> Result<Vec<f64>, String> {
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            l.trim()
+                .parse::<f64>()
+                .map_err(|e| format!("line {}: {e}: {l:?}", i + 1))
+        })
+        .collect()
+}
+
+/// Reads a distance file (see [`parse_distances`]).
+pub fn read_distances(path: &Path) -> Vec<f64> {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    parse_distances(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Expected statistics of one real mesh, from the table in the meshes' README.
+#[derive(Clone, Copy, Debug)]
+pub struct ExpectedMesh {
+    /// File name in the data folder.
+    pub file: &'static str,
+    /// Whether to weld exactly equal positions first.
+    pub weld: bool,
+    /// Vertices.
+    pub vertices: usize,
+    /// Faces.
+    pub faces: usize,
+    /// Connected components.
+    pub components: usize,
+    /// Boundary loops.
+    pub boundary_loops: usize,
+    /// Euler characteristic.
+    pub euler: i64,
+    /// Genus (`None` where undefined).
+    pub genus: Option<i64>,
+    /// Non-manifold (pinch) vertices.
+    pub nonmanifold_vertices: usize,
+    /// Zero-area faces.
+    pub zero_area_faces: usize,
+    /// Vertices duplicating an earlier position.
+    pub duplicate_positions: usize,
+    /// Unreferenced vertices.
+    pub unreferenced_vertices: usize,
+}
+
+const fn m(
+    file: &'static str,
+    weld: bool,
+    counts: [usize; 4],
+    euler: i64,
+    genus: Option<i64>,
+    defects: [usize; 4],
+) -> ExpectedMesh {
+    ExpectedMesh {
+        file,
+        weld,
+        vertices: counts[0],
+        faces: counts[1],
+        components: counts[2],
+        boundary_loops: counts[3],
+        euler,
+        genus,
+        nonmanifold_vertices: defects[0],
+        zero_area_faces: defects[1],
+        duplicate_positions: defects[2],
+        unreferenced_vertices: defects[3],
+    }
+}
+
+/// The README's table (V, F, components, loops; χ; genus; non-manifold,
+/// zero-area, duplicate, unreferenced), plus the welded dragon.
+pub const REAL_MESHES: &[ExpectedMesh] = &[
+    m(
+        "armadillo.obj",
+        false,
+        [43243, 86482, 1, 0],
+        2,
+        Some(0),
+        [0; 4],
+    ),
+    m("blade.off", false, [8231, 16222, 1, 2], 0, Some(0), [0; 4]),
+    m("bunny.off", false, [34835, 69666, 1, 0], 2, Some(0), [0; 4]),
+    m(
+        "bunny_zipper.ply",
+        false,
+        [35947, 69451, 1, 5],
+        -3,
+        Some(0),
+        [0, 0, 0, 1113],
+    ),
+    m(
+        "camelhead.off",
+        false,
+        [11381, 22704, 1, 1],
+        1,
+        Some(0),
+        [0; 4],
+    ),
+    m("cow.obj", false, [2903, 5804, 1, 0], 1, None, [1, 0, 0, 0]),
+    m(
+        "dragon.ply",
+        false,
+        [437645, 871414, 151, 407],
+        -197,
+        Some(46),
+        [0, 108, 2100, 0],
+    ),
+    m(
+        "dragon.ply",
+        true,
+        [435545, 871306, 1, 0],
+        -108,
+        Some(55),
+        [0; 4],
+    ),
+    m(
+        "fandisk.obj",
+        false,
+        [6475, 12946, 1, 0],
+        2,
+        Some(0),
+        [0; 4],
+    ),
+    m(
+        "fertility.off",
+        false,
+        [4494, 9000, 1, 0],
+        -6,
+        Some(4),
+        [0; 4],
+    ),
+    m("hand.off", false, [1197, 2390, 1, 0], 2, Some(0), [0; 4]),
+    m("knot.stl", false, [3200, 6400, 1, 0], 0, Some(1), [0; 4]),
+    m(
+        "rockerarm.off",
+        false,
+        [10044, 20088, 1, 0],
+        0,
+        Some(1),
+        [0; 4],
+    ),
+    m(
+        "screw_m3x10.stl",
+        false,
+        [7768, 15532, 1, 0],
+        2,
+        Some(0),
+        [0; 4],
+    ),
+    m(
+        "skull.glb",
+        false,
+        [49999, 100002, 1, 0],
+        -2,
+        Some(2),
+        [0; 4],
+    ),
+];

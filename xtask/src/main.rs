@@ -1,2 +1,237 @@
-//! Project automation.
-fn main() {}
+//! Project automation, run as `cargo xtask <command>` (an alias in
+//! `.cargo/config.toml`, always built in release mode).
+//!
+//! - `cargo xtask bench [--runs N] [--large]`: the VTP table of the exact-VTP
+//!   issue (solve time, ns per window propagation, propagations, peak window
+//!   memory) on `bunny.off`, `armadillo.obj` and a Loop-subdivided bunny,
+//!   with gdist (an independent MMP) timed in the same run when its
+//!   environment exists, and the authors' published figures beside ours.
+//!   `--large` adds a second Loop step (1.1 M faces).
+//! - `cargo xtask load [--runs N]`: read and topology-build times of every
+//!   real mesh.
+//!
+//! Meshes come from `GEODESICS_DATA` (default `../shared/data/meshes`).
+//! Times are the minimum over the runs; only ratios measured in one run mean
+//! much on a shared machine.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(command) = args.first() else {
+        eprintln!("usage: cargo xtask bench [--runs N] [--large] | load [--runs N]");
+        return Ok(());
+    };
+    let runs = flag_value(&args, "--runs")?.unwrap_or(3);
+    match command.as_str() {
+        "bench" => bench(runs, args.iter().any(|a| a == "--large")),
+        "load" => load(runs),
+        other => bail!("unknown xtask command `{other}` (try: bench, load)"),
+    }
+}
+
+fn flag_value(args: &[String], flag: &str) -> Result<Option<usize>> {
+    match args.iter().position(|a| a == flag) {
+        None => Ok(None),
+        Some(i) => {
+            let v = args
+                .get(i + 1)
+                .with_context(|| format!("{flag} takes a number"))?;
+            Ok(Some(v.parse().with_context(|| {
+                format!("{flag} takes a number, got {v}")
+            })?))
+        }
+    }
+}
+
+fn data_dir() -> Result<PathBuf> {
+    let dir = std::env::var_os("GEODESICS_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/meshes")
+        });
+    if !dir.is_dir() {
+        bail!(
+            "mesh folder {} not found (set GEODESICS_DATA)",
+            dir.display()
+        );
+    }
+    Ok(dir)
+}
+
+fn read(path: &Path) -> Result<geodesics::IndexedTriangles> {
+    geodesics::io::read_mesh(path).with_context(|| path.display().to_string())
+}
+
+/// The best of `runs` solves from vertex 0, with the stats of that run.
+fn best_vtp(mesh: &Mesh, runs: usize) -> Result<(f64, Stats)> {
+    let mut best: Option<(f64, Stats)> = None;
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        let (_, stats) = geodesics::compute(mesh, &[Source::Vertex(0)], &Algorithm::default())?;
+        let s = t.elapsed().as_secs_f64();
+        if best.as_ref().is_none_or(|(b, _)| s < *b) {
+            best = Some((s, stats));
+        }
+    }
+    Ok(best.expect("at least one run"))
+}
+
+/// gdist's solve time from vertex 0 (mesh loading excluded), through the
+/// oracle's environment, or `None` when it is not installed.
+fn gdist_seconds(mesh: &Path, runs: usize) -> Option<f64> {
+    let home = std::env::var_os("HOME")?;
+    let venv = std::env::var_os("ORACLE_VENV")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(home).join(".cache/geodesics-oracle"));
+    let python = venv.join("bin/python");
+    let oracle =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/tools/oracle/oracle.py");
+    if !python.exists() || !oracle.exists() {
+        return None;
+    }
+    let out = std::env::temp_dir().join(format!("xtask-gdist-{}.txt", std::process::id()));
+    let mut best: Option<f64> = None;
+    for _ in 0..runs.max(1) {
+        let o = Command::new(&python)
+            .arg(&oracle)
+            .arg(mesh)
+            .args(["--source", "0", "--out"])
+            .arg(&out)
+            .output()
+            .ok()?;
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        // "gdist 2.9.2: 1.234 s"
+        let secs = stderr.lines().find_map(|l| {
+            let rest = l.strip_prefix("gdist ")?;
+            let (_, t) = rest.split_once(": ")?;
+            t.strip_suffix(" s")?.parse::<f64>().ok()
+        })?;
+        best = Some(best.map_or(secs, |b: f64| b.min(secs)));
+    }
+    let _ = std::fs::remove_file(out);
+    best
+}
+
+/// A mesh of the speed table: name, triangles, and the authors' VTP seconds
+/// and propagations from `peer-figures.md` where published.
+struct BenchCase {
+    name: String,
+    soup: geodesics::IndexedTriangles,
+    authors: Option<(f64, u64)>,
+}
+
+impl BenchCase {
+    fn new(name: &str, soup: geodesics::IndexedTriangles, authors: Option<(f64, u64)>) -> Self {
+        BenchCase {
+            name: name.to_string(),
+            soup,
+            authors,
+        }
+    }
+}
+
+fn bench(runs: usize, large: bool) -> Result<()> {
+    let dir = data_dir()?;
+    let bunny = read(&dir.join("bunny.off"))?;
+    // (name, mesh, authors' VTP seconds and propagations from peer-figures.md)
+    let mut cases = vec![
+        BenchCase::new("bunny.off", bunny.clone(), Some((0.242, 1_673_219))),
+        BenchCase::new(
+            "armadillo.obj",
+            read(&dir.join("armadillo.obj"))?,
+            Some((0.282, 1_230_273)),
+        ),
+        BenchCase::new(
+            "bunny.off, Loop x1",
+            geodesics_shapes::loop_subdivide(&bunny, 1)?,
+            None,
+        ),
+    ];
+    if large {
+        let soup = geodesics_shapes::loop_subdivide(&bunny, 2)?;
+        cases.push(BenchCase::new("bunny.off, Loop x2", soup, None));
+    }
+    println!("VTP from vertex 0, best of {runs} runs (solve only)\n");
+    println!(
+        "| mesh | F | VTP s | ns / propagation | propagations | peak live windows | peak window KiB | authors' VTP s | authors' propagations |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let mut bunny_seconds = None;
+    for BenchCase {
+        name,
+        soup,
+        authors,
+    } in cases
+    {
+        let mesh = Mesh::build(soup, &BuildOptions::default())?;
+        let (s, st) = best_vtp(&mesh, runs)?;
+        if name == "bunny.off" {
+            bunny_seconds = Some(s);
+        }
+        let (at, ap) = authors.map_or(("—".to_string(), "—".to_string()), |(t, p)| {
+            (format!("{t:.3}"), p.to_string())
+        });
+        println!(
+            "| {name} | {} | {s:.3} | {:.1} | {} | {} | {:.0} | {at} | {ap} |",
+            mesh.face_count(),
+            1e9 * s / st.window_propagations.max(1) as f64,
+            st.window_propagations,
+            st.peak_live_windows,
+            st.peak_window_bytes as f64 / 1024.0,
+        );
+    }
+    println!();
+    match (gdist_seconds(&dir.join("bunny.off"), runs), bunny_seconds) {
+        (Some(g), Some(v)) => println!(
+            "gdist (MMP, tvb-gdist) on bunny.off from vertex 0, same run: {g:.3} s; VTP is {:.1}x faster",
+            g / v
+        ),
+        _ => println!("gdist not measured: run ../shared/tools/oracle/setup.sh once to install it"),
+    }
+    Ok(())
+}
+
+fn load(runs: usize) -> Result<()> {
+    let dir = data_dir()?;
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.extension().is_some_and(|e| e != "md" && e != "jsonl"))
+        .collect();
+    files.sort();
+    println!(
+        "Read and topology build, best of {runs} runs, {}\n",
+        dir.display()
+    );
+    println!("| mesh | V | F | read s | build s | total s |");
+    println!("|---|---:|---:|---:|---:|---:|");
+    for path in files {
+        let name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
+        let (mut read_s, mut build_s, mut size) = (f64::INFINITY, f64::INFINITY, (0, 0));
+        for _ in 0..runs.max(1) {
+            let t = Instant::now();
+            let soup = read(&path)?;
+            read_s = read_s.min(t.elapsed().as_secs_f64());
+            let t = Instant::now();
+            let mesh = Mesh::build(soup, &BuildOptions::default()).with_context(|| name.clone())?;
+            build_s = build_s.min(t.elapsed().as_secs_f64());
+            size = (mesh.input_vertex_count(), mesh.face_count());
+        }
+        println!(
+            "| {name} | {} | {} | {read_s:.4} | {build_s:.4} | {:.4} |",
+            size.0,
+            size.1,
+            read_s + build_s
+        );
+    }
+    Ok(())
+}

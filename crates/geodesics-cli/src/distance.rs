@@ -1,0 +1,250 @@
+//! `geodesics distance`: a geodesic distance field from one or more sources.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use geodesics::{Algorithm, DistanceField, Mesh, Source, Stats};
+use serde::Serialize;
+
+use crate::input::{LoadedMesh, MeshArgs};
+
+/// Arguments of `geodesics distance`.
+#[derive(Args, Debug)]
+pub struct DistanceArgs {
+    #[command(flatten)]
+    pub input: MeshArgs,
+    /// A source vertex (input numbering). Repeat for several sources; the
+    /// field is the distance to the nearest. Default: vertex 0.
+    #[arg(long = "source", value_name = "V")]
+    pub sources: Vec<u32>,
+    /// A source inside a face: `FACE:B0,B1,B2`, barycentric coordinates
+    /// relative to the face's corners in file order.
+    #[arg(long = "source-point", value_name = "FACE:B0,B1,B2")]
+    pub source_points: Vec<String>,
+    /// A source on an edge: `A,B:T`, the point at fraction T from vertex A to
+    /// vertex B of an edge of the mesh.
+    #[arg(long = "source-edge", value_name = "A,B:T")]
+    pub source_edges: Vec<String>,
+    /// The solver.
+    #[arg(long, default_value = "vtp", value_name = "NAME")]
+    pub algorithm: String,
+    /// Stop propagating beyond this distance (farther vertices are `inf`).
+    #[arg(long, value_name = "D")]
+    pub max_distance: Option<f64>,
+    /// Where to write the field; the format follows the extension: `.txt`
+    /// (one value per line, `inf` unreachable), `.csv`, `.npy`, `.ply`
+    /// (the mesh colored by distance).
+    #[arg(long, short, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Write the run's statistics as JSON to this file.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+}
+
+/// The JSON written by `--stats`.
+#[derive(Serialize)]
+struct StatsReport<'a> {
+    mesh: &'a str,
+    algorithm: String,
+    vertices: usize,
+    faces: usize,
+    sources: usize,
+    time_seconds: f64,
+    window_propagations: u64,
+    windows_created: u64,
+    peak_windows: u64,
+    peak_window_bytes: u64,
+    prime_propagations: u64,
+    secondary_propagations: u64,
+    vertex_pops: u64,
+    pseudo_source_emissions: u64,
+    propagation_seconds: f64,
+    pruning_seconds: f64,
+    management_seconds: f64,
+    reached_vertices: usize,
+    max_distance: f64,
+    load_seconds: f64,
+    build_seconds: f64,
+}
+
+/// Runs `geodesics distance`.
+pub fn run(args: &DistanceArgs) -> Result<()> {
+    if let Some(d) = args.max_distance
+        && (d.is_nan() || d < 0.0)
+    {
+        bail!("--max-distance must be a non-negative number, got {d}");
+    }
+    let algorithm: Algorithm = args.algorithm.parse()?;
+    let algorithm = algorithm.with_max_distance(args.max_distance);
+    let protected: Vec<&Path> = args.input.mesh.iter().map(PathBuf::as_path).collect();
+    for out in args.output.iter().chain(&args.stats) {
+        refuse_input_as_output(out, &protected)?;
+    }
+    let loaded = args.input.load()?;
+    let sources = parse_sources(args, &loaded.mesh)?;
+
+    let start = Instant::now();
+    let (field, stats) = geodesics::compute(&loaded.mesh, &sources, &algorithm)
+        .with_context(|| loaded.name.clone())?;
+    let solve_seconds = start.elapsed().as_secs_f64();
+
+    if let Some(out) = &args.output {
+        let triangles = loaded.mesh.to_indexed_triangles();
+        geodesics::io::write_field(out, &field.distance, Some(&triangles), &protected)?;
+    }
+    let report = stats_report(&loaded, &algorithm, &sources, &field, &stats, solve_seconds);
+    if let Some(path) = &args.stats {
+        let json = serde_json::to_string_pretty(&report)? + "\n";
+        geodesics::io::write_bytes_atomic(path, json.as_bytes(), &protected)?;
+    }
+    crate::print_stdout(&summary(&report, &args.output))
+}
+
+fn refuse_input_as_output(out: &Path, inputs: &[&Path]) -> Result<()> {
+    for input in inputs {
+        let same = match (out.canonicalize(), input.canonicalize()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => out == *input,
+        };
+        if same {
+            bail!(
+                "{}: refusing to overwrite the input mesh with the output",
+                out.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+fn parse_sources(args: &DistanceArgs, mesh: &Mesh) -> Result<Vec<Source>> {
+    let mut sources: Vec<Source> = args.sources.iter().map(|&v| Source::Vertex(v)).collect();
+    for spec in &args.source_points {
+        sources.push(parse_face_point(spec, mesh)?);
+    }
+    for spec in &args.source_edges {
+        sources.push(parse_edge_point(spec, mesh)?);
+    }
+    if sources.is_empty() {
+        sources.push(Source::Vertex(0));
+    }
+    Ok(sources)
+}
+
+fn parse_face_point(spec: &str, mesh: &Mesh) -> Result<Source> {
+    let bad = || format!("--source-point `{spec}`: expected FACE:B0,B1,B2");
+    let (face, bary) = spec.split_once(':').with_context(bad)?;
+    let face: u32 = face.trim().parse().with_context(bad)?;
+    let b: Vec<f64> = bary
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(bad)?;
+    let [b0, b1, b2] = b[..] else {
+        bail!(bad());
+    };
+    if face as usize >= mesh.face_count() {
+        bail!(
+            "--source-point `{spec}`: face {face} does not exist (the mesh has {} faces)",
+            mesh.face_count()
+        );
+    }
+    // Building may flip a face ([a,b,c] -> [a,c,b]) to orient the surface.
+    let barycentric = if mesh.is_reoriented(face) {
+        [b0, b2, b1]
+    } else {
+        [b0, b1, b2]
+    };
+    Ok(Source::FacePoint { face, barycentric })
+}
+
+fn parse_edge_point(spec: &str, mesh: &Mesh) -> Result<Source> {
+    let bad = || format!("--source-edge `{spec}`: expected A,B:T");
+    let (ends, t) = spec.split_once(':').with_context(bad)?;
+    let (a, b) = ends.split_once(',').with_context(bad)?;
+    let a: u32 = a.trim().parse().with_context(bad)?;
+    let b: u32 = b.trim().parse().with_context(bad)?;
+    let t: f64 = t.trim().parse().with_context(bad)?;
+    let n = mesh.input_vertex_count() as u32;
+    if a >= n || b >= n {
+        bail!("--source-edge `{spec}`: vertex out of range (the mesh has {n} vertices)");
+    }
+    // Search every half-edge leaving a fan of `a` (pinch vertices have several).
+    let fans = std::iter::once(a).chain(mesh.pinch_fans(a));
+    for fan in fans {
+        for h in mesh.outgoing(fan) {
+            if mesh.pinch_origin(mesh.head(h)) == b {
+                return Ok(Source::EdgePoint { half_edge: h, t });
+            }
+            // The edge may be a boundary edge entering `a` instead.
+            let incoming = Mesh::prev(h);
+            if mesh.twin(incoming).is_none() && mesh.pinch_origin(mesh.tail(incoming)) == b {
+                return Ok(Source::EdgePoint {
+                    half_edge: incoming,
+                    t: 1.0 - t,
+                });
+            }
+        }
+    }
+    bail!("--source-edge `{spec}`: vertices {a} and {b} share no edge")
+}
+
+fn stats_report<'a>(
+    loaded: &'a LoadedMesh,
+    algorithm: &Algorithm,
+    sources: &[Source],
+    field: &DistanceField,
+    stats: &Stats,
+    solve_seconds: f64,
+) -> StatsReport<'a> {
+    let finite = field.distance.iter().copied().filter(|d| d.is_finite());
+    StatsReport {
+        mesh: &loaded.name,
+        algorithm: algorithm.name().to_string(),
+        vertices: loaded.mesh.input_vertex_count(),
+        faces: loaded.mesh.face_count(),
+        sources: sources.len(),
+        time_seconds: solve_seconds,
+        window_propagations: stats.window_propagations,
+        windows_created: stats.windows_created,
+        peak_windows: stats.peak_live_windows,
+        peak_window_bytes: stats.peak_window_bytes,
+        prime_propagations: stats.prime_propagations,
+        secondary_propagations: stats.secondary_propagations,
+        vertex_pops: stats.vertex_pops,
+        pseudo_source_emissions: stats.pseudo_source_emissions,
+        propagation_seconds: stats.propagation_seconds,
+        pruning_seconds: stats.pruning_seconds,
+        management_seconds: stats.management_seconds,
+        reached_vertices: finite.clone().count(),
+        max_distance: finite.fold(0.0, f64::max),
+        load_seconds: loaded.load_seconds,
+        build_seconds: loaded.build_seconds,
+    }
+}
+
+fn summary(r: &StatsReport, output: &Option<PathBuf>) -> String {
+    let mut s = String::new();
+    s += &format!(
+        "{}: {} vertices, {} faces, {} source(s), algorithm {}\n",
+        r.mesh, r.vertices, r.faces, r.sources, r.algorithm
+    );
+    s += &format!(
+        "reached {} of {} vertices; largest distance {:.6}\n",
+        r.reached_vertices, r.vertices, r.max_distance
+    );
+    s += &format!(
+        "solve {:.3} s: {} window propagations ({:.1} ns each), {} windows created, peak {} live windows ({:.1} KiB)\n",
+        r.time_seconds,
+        r.window_propagations,
+        1e9 * r.time_seconds / (r.window_propagations.max(1) as f64),
+        r.windows_created,
+        r.peak_windows,
+        r.peak_window_bytes as f64 / 1024.0
+    );
+    if let Some(out) = output {
+        s += &format!("wrote {}\n", out.display());
+    }
+    s
+}

@@ -1,0 +1,167 @@
+//! Exact geodesic distances on triangle meshes by vertex-oriented triangle
+//! propagation: VTP, Algorithm 1 of Qin, Han, Yu, Yu and Zhang, "Fast and
+//! Exact Discrete Geodesic Computation Based on Triangle-Oriented Wavefront
+//! Propagation" (SIGGRAPH 2016).
+//!
+//! Windows (from `geodesics-window`) live in lists, one per half-edge: the
+//! windows about to cross that half-edge's face. The wavefront is a queue of
+//! vertices ordered by `(distance, vertex id)` with lazy deletion (the
+//! authors' set keyed on distance alone loses vertices whose distances tie).
+//! Popping a vertex adds the faces around it to the traversed area; every
+//! list waiting to enter one of them is propagated at once through its face
+//! with Rule 1 (one angle two sides), the vertex check, and Rules 2/3
+//! (adjacent-pair pruning when the children are appended to the lists
+//! beyond); lists whose next face is already traversed keep propagating
+//! (secondary propagation), the others wait on the wavefront.
+//!
+//! Pseudo-sources: boundary vertices, interior vertices whose angle sum
+//! exceeds `2π − 1e-5` (saddles and flat vertices), the fan copies of pinch
+//! vertices (they share one distance), the corners of zero-area faces, and
+//! the sources. A pseudo-source emits one window per opposite edge when it
+//! is popped, and again whenever its distance drops by more than the
+//! tolerance after that.
+//!
+//! Zero-area faces: a face with two coincident corners passes windows from
+//! one long edge to the other unchanged (the two edges are one segment and
+//! their frames coincide); any other zero-area face stops windows, and
+//! distances cross it along its edges through its corners, which are
+//! pseudo-sources.
+//!
+//! # Example
+//!
+//! ```
+//! use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
+//! use geodesics_vtp::{VtpOptions, solve};
+//! use geodesics_window::Source;
+//! use glam::DVec3;
+//!
+//! // A unit square in the plane, split along its diagonal.
+//! let soup = IndexedTriangles {
+//!     positions: vec![
+//!         DVec3::new(0.0, 0.0, 0.0),
+//!         DVec3::new(1.0, 0.0, 0.0),
+//!         DVec3::new(1.0, 1.0, 0.0),
+//!         DVec3::new(0.0, 1.0, 0.0),
+//!     ],
+//!     triangles: vec![[0, 1, 2], [0, 2, 3]],
+//! };
+//! let mesh = Mesh::build(soup, &BuildOptions::default()).unwrap();
+//! let (field, stats) = solve(&mesh, &[Source::Vertex(1)], &VtpOptions::default()).unwrap();
+//! assert_eq!(field.distance[1], 0.0);
+//! assert!((field.distance[3] - 2f64.sqrt()).abs() < 1e-15);
+//! assert_eq!(field.nearest_source, vec![0; 4]);
+//! assert!(stats.windows_created > 0);
+//! ```
+
+// Negated comparisons (`!(a < b)`) are deliberate: a NaN fails them.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod error;
+mod solver;
+
+pub use error::VtpError;
+pub use geodesics_window::{DistanceField, Source, Stats};
+
+use geodesics_mesh::Mesh;
+
+/// Which pruning rules run (the ablations of Fig 12 of the paper). Every
+/// combination is exact; the default, all on, is the paper's VTP.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pruning {
+    /// Rule 1, one angle two sides (Section 4.1).
+    pub rule1: bool,
+    /// Rules 2 and 3: pairwise checks between adjacent windows of a list.
+    pub pairwise: bool,
+    /// Checking with vertices (Case 12, the ICH filter, with its edge-end
+    /// variants).
+    pub vertex_check: bool,
+}
+
+impl Default for Pruning {
+    fn default() -> Self {
+        Pruning {
+            rule1: true,
+            pairwise: true,
+            vertex_check: true,
+        }
+    }
+}
+
+/// Options of [`solve`]. `Default` is the paper's final algorithm with no
+/// distance limit.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VtpOptions {
+    /// Stop the wavefront beyond this distance; vertices farther away are
+    /// reported unreachable (`f64::INFINITY`).
+    pub max_distance: Option<f64>,
+    /// The pruning rules to apply.
+    pub pruning: Pruning,
+    /// Record, per vertex, how its distance was obtained (see
+    /// [`solve_with_provenance`]).
+    pub record_provenance: bool,
+}
+
+/// How a vertex got its final distance: enough to rebuild (or
+/// independently verify) the path, one straight unfolded piece at a time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Provenance {
+    /// Never reached.
+    Unreached,
+    /// Straight from source number `.0` (a source vertex, or a corner of
+    /// the face or edge holding a point source).
+    Source(u32),
+    /// Along a mesh edge of length `length` from vertex `from` (a
+    /// pseudo-source relaxing its neighbours; `length` 0 for pinch copies).
+    Vertex {
+        /// The pseudo-source vertex.
+        from: u32,
+        /// Length of the edge walked.
+        length: f64,
+    },
+    /// Lit as the apex of the face of `half_edge` by a window of that
+    /// half-edge: the path is straight from `pseudo_source` (in the
+    /// half-edge's frame, at distance `sigma` from the source) through the
+    /// window, crossing the half-edge at `bend` (bending there only if the
+    /// apex was not visible through the window).
+    Window {
+        /// The half-edge whose window lit the apex.
+        half_edge: u32,
+        /// The window's pseudo-source, in the half-edge's frame.
+        pseudo_source: glam::DVec2,
+        /// Distance of the pseudo-source.
+        sigma: f64,
+        /// Where the path crosses the half-edge.
+        bend: f64,
+    },
+}
+
+/// Computes exact geodesic distances from `sources` to every vertex of
+/// `mesh`: per input vertex, the distance to the nearest source and which
+/// source that is, plus statistics of the run.
+///
+/// Never panics on input: an empty source list, an index out of range, an
+/// unreferenced source vertex, an edge parameter outside `[0, 1]`,
+/// barycentric coordinates that are not finite, negative or do not sum to 1,
+/// or a negative maximum distance are [`VtpError`]s.
+pub fn solve(
+    mesh: &Mesh,
+    sources: &[Source],
+    options: &VtpOptions,
+) -> Result<(DistanceField, Stats), VtpError> {
+    solver::solve(mesh, sources, options).map(|(f, s, _)| (f, s))
+}
+
+/// [`solve`], also returning per mesh vertex (pinch copies included, not
+/// folded) how its distance was obtained. Recording costs one store per
+/// distance update.
+pub fn solve_with_provenance(
+    mesh: &Mesh,
+    sources: &[Source],
+    options: &VtpOptions,
+) -> Result<(DistanceField, Stats, Vec<Provenance>), VtpError> {
+    let options = VtpOptions {
+        record_provenance: true,
+        ..options.clone()
+    };
+    solver::solve(mesh, sources, &options)
+}

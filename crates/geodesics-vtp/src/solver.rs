@@ -1,0 +1,728 @@
+//! Algorithm 1 of Qin et al. 2016 (vertex-oriented triangle propagation).
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, VecDeque};
+use std::time::Instant;
+
+use geodesics_mesh::Mesh;
+use geodesics_window::prune::{PairOutcome, one_angle_two_sides, prune_adjacent, vertex_check};
+use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window};
+use glam::{DVec2, DVec3};
+
+use crate::{Provenance, VtpError, VtpOptions};
+
+const NONE: u32 = u32::MAX;
+
+/// How a face is crossed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FaceKind {
+    /// Positive area: the generic one-step propagation.
+    Proper,
+    /// Zero area with two coincident corners (a zero-length edge): the two
+    /// long edges are the same segment, so a window entering through one
+    /// leaves through the other unchanged (identical frames).
+    Zipper,
+    /// Any other zero-area face (three coincident or collinear corners):
+    /// windows stop there; its vertices are pseudo-sources and distances
+    /// relax along its edges.
+    Blocked,
+}
+
+struct Solver<'a> {
+    mesh: &'a Mesh,
+    options: &'a VtpOptions,
+    tol: Tolerance,
+    /// Per half-edge: the opposite corner in the half-edge's frame.
+    apex: Vec<DVec2>,
+    kind: Vec<FaceKind>,
+    dist: Vec<f64>,
+    src: Vec<u32>,
+    inside: Vec<bool>,
+    pseudo: Vec<bool>,
+    /// Per vertex: distance at which it last emitted pseudo-source windows.
+    emitted: Vec<f64>,
+    /// Per vertex: index into `groups` of its pinch group, or NONE.
+    group_of: Vec<u32>,
+    groups: Vec<Vec<u32>>,
+    heap: BinaryHeap<Reverse<(u64, u32)>>,
+    /// Per half-edge: index of its window list in `pool`, or NONE.
+    slot: Vec<u32>,
+    pool: Vec<Vec<Window>>,
+    free: Vec<u32>,
+    queued: Vec<bool>,
+    fifo: VecDeque<u32>,
+    /// Per face: the pop number at which it joined the traversed area.
+    entered: Vec<u32>,
+    pops: u32,
+    live: u64,
+    stats: Stats,
+    left: Vec<Window>,
+    right: Vec<Window>,
+    info: Vec<(f64, f64, f64)>,
+    /// When the current list's children were computed (phase timing).
+    merge_start: Instant,
+    /// Per vertex: how its distance was last set (only when recording).
+    prov: Vec<Provenance>,
+}
+
+pub(crate) fn solve(
+    mesh: &Mesh,
+    sources: &[Source],
+    options: &VtpOptions,
+) -> Result<(DistanceField, Stats, Vec<Provenance>), VtpError> {
+    let start = Instant::now();
+    validate(mesh, sources, options)?;
+    let mut s = Solver::new(mesh, options);
+    for (i, source) in sources.iter().enumerate() {
+        s.seed(i as u32, source);
+    }
+    s.run();
+    let mut stats = std::mem::take(&mut s.stats);
+    let prov = std::mem::take(&mut s.prov);
+    let field = s.finish();
+    stats.total_seconds = start.elapsed().as_secs_f64();
+    stats.management_seconds =
+        (stats.total_seconds - stats.propagation_seconds - stats.pruning_seconds).max(0.0);
+    stats.peak_window_bytes = stats.peak_live_windows * std::mem::size_of::<Window>() as u64;
+    Ok((field, stats, prov))
+}
+
+fn validate(mesh: &Mesh, sources: &[Source], options: &VtpOptions) -> Result<(), VtpError> {
+    if sources.is_empty() {
+        return Err(VtpError::NoSources);
+    }
+    if let Some(m) = options.max_distance
+        && !(m >= 0.0)
+    {
+        return Err(VtpError::MaxDistance(m));
+    }
+    let tol = Tolerance::for_mesh(mesh);
+    for (source_index, s) in sources.iter().enumerate() {
+        match *s {
+            Source::Vertex(vertex) => {
+                if vertex as usize >= mesh.input_vertex_count() {
+                    return Err(VtpError::VertexOutOfRange {
+                        source_index,
+                        vertex,
+                        vertices: mesh.input_vertex_count(),
+                    });
+                }
+                if !mesh.is_referenced(vertex) {
+                    return Err(VtpError::UnreferencedVertex {
+                        source_index,
+                        vertex,
+                    });
+                }
+            }
+            Source::EdgePoint { half_edge, t } => {
+                if half_edge as usize >= mesh.half_edge_count() {
+                    return Err(VtpError::HalfEdgeOutOfRange {
+                        source_index,
+                        half_edge,
+                        half_edges: mesh.half_edge_count(),
+                    });
+                }
+                if !(0.0..=1.0).contains(&t) {
+                    return Err(VtpError::EdgeParameter { source_index, t });
+                }
+            }
+            Source::FacePoint { face, barycentric } => {
+                if face as usize >= mesh.face_count() {
+                    return Err(VtpError::FaceOutOfRange {
+                        source_index,
+                        face,
+                        faces: mesh.face_count(),
+                    });
+                }
+                let ok = barycentric.iter().all(|b| b.is_finite() && *b >= 0.0)
+                    && (barycentric.iter().sum::<f64>() - 1.0).abs() <= tol.relative;
+                if !ok {
+                    return Err(VtpError::Barycentric {
+                        source_index,
+                        barycentric,
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
+/// head on +x), assuming `q` lies in the closed face of `h` (so `y ≥ 0`).
+fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
+    let t = mesh.position(mesh.tail(h));
+    let e = mesh.position(mesh.head(h)) - t;
+    let l = mesh.length(h);
+    if l <= 0.0 {
+        return DVec2::ZERO;
+    }
+    let r = q - t;
+    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
+}
+
+impl<'a> Solver<'a> {
+    fn new(mesh: &'a Mesh, options: &'a VtpOptions) -> Self {
+        let tol = Tolerance::for_mesh(mesh);
+        let nh = mesh.half_edge_count();
+        let nf = mesh.face_count();
+        let nv = mesh.vertex_count();
+        let mut apex = Vec::with_capacity(nh);
+        for h in 0..nh as u32 {
+            apex.push(frame_coords(
+                mesh,
+                h,
+                mesh.position(mesh.opposite_vertex(h)),
+            ));
+        }
+        let mut kind = Vec::with_capacity(nf);
+        for f in 0..nf {
+            let hs = [3 * f, 3 * f + 1, 3 * f + 2];
+            let proper = hs
+                .iter()
+                .all(|&h| apex[h].y > 0.0 && mesh.length(h as u32) > 0.0);
+            let zeros = hs.iter().filter(|&&h| mesh.length(h as u32) == 0.0).count();
+            kind.push(if proper {
+                FaceKind::Proper
+            } else if zeros == 1 {
+                FaceKind::Zipper
+            } else {
+                FaceKind::Blocked
+            });
+        }
+        let mut pseudo = vec![false; nv];
+        for (v, p) in pseudo.iter_mut().enumerate() {
+            let v = v as u32;
+            *p = mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v));
+        }
+        for (f, k) in kind.iter().enumerate() {
+            if *k != FaceKind::Proper {
+                for v in mesh.face(f as u32) {
+                    pseudo[v as usize] = true;
+                }
+            }
+        }
+        // Pinch groups: the fan copies of one input vertex.
+        let mut group_of = vec![NONE; nv];
+        let mut groups: Vec<Vec<u32>> = Vec::new();
+        for v in mesh.input_vertex_count()..nv {
+            let o = mesh.pinch_origin(v as u32);
+            if group_of[o as usize] == NONE {
+                group_of[o as usize] = groups.len() as u32;
+                groups.push(vec![o]);
+            }
+            let g = group_of[o as usize];
+            group_of[v] = g;
+            groups[g as usize].push(v as u32);
+        }
+        for g in &groups {
+            for &v in g {
+                pseudo[v as usize] = true;
+            }
+        }
+        Solver {
+            mesh,
+            options,
+            tol,
+            apex,
+            kind,
+            dist: vec![f64::INFINITY; nv],
+            src: vec![NO_SOURCE; nv],
+            inside: vec![false; nv],
+            pseudo,
+            emitted: vec![f64::INFINITY; nv],
+            group_of,
+            groups,
+            heap: BinaryHeap::new(),
+            slot: vec![NONE; nh],
+            pool: Vec::new(),
+            free: Vec::new(),
+            queued: vec![false; nh],
+            fifo: VecDeque::new(),
+            entered: vec![NONE; nf],
+            pops: 0,
+            live: 0,
+            stats: Stats::default(),
+            left: Vec::new(),
+            right: Vec::new(),
+            info: Vec::new(),
+            merge_start: Instant::now(),
+            prov: if options.record_provenance {
+                vec![Provenance::Unreached; nv]
+            } else {
+                Vec::new()
+            },
+        }
+    }
+
+    // ---------------------------------------------------------------- seeds
+
+    fn seed(&mut self, i: u32, source: &Source) {
+        let mesh = self.mesh;
+        match *source {
+            Source::Vertex(v) => self.seed_vertex(i, v),
+            Source::EdgePoint { half_edge: h, t } => {
+                if t == 0.0 {
+                    return self.seed_vertex(i, mesh.tail(h));
+                }
+                if t == 1.0 {
+                    return self.seed_vertex(i, mesh.head(h));
+                }
+                let a = mesh.position(mesh.tail(h));
+                let b = mesh.position(mesh.head(h));
+                let q = a + (b - a) * t;
+                // Paths along the edge line may continue through its ends.
+                for v in [mesh.tail(h), mesh.head(h)] {
+                    self.force_pseudo(v);
+                }
+                self.seed_point_in_face(i, Mesh::face_of(h), q);
+                if let Some(t) = mesh.twin(h) {
+                    self.seed_point_in_face(i, Mesh::face_of(t), q);
+                }
+            }
+            Source::FacePoint { face, barycentric } => {
+                let c = mesh.face(face).map(|v| mesh.position(v));
+                let s: f64 = barycentric.iter().sum();
+                let q = (c[0] * barycentric[0] + c[1] * barycentric[1] + c[2] * barycentric[2]) / s;
+                let zeros = barycentric.iter().filter(|&&b| b == 0.0).count();
+                if zeros == 2 {
+                    let k = barycentric.iter().position(|&b| b != 0.0).unwrap_or(0);
+                    return self.seed_vertex(i, mesh.face(face)[k]);
+                }
+                if zeros == 1 {
+                    // On an edge: seed both faces of that edge.
+                    let k = barycentric.iter().position(|&b| b == 0.0).unwrap_or(0);
+                    let (i1, i2) = ((k + 1) % 3, (k + 2) % 3);
+                    let t = barycentric[i2] / (barycentric[i1] + barycentric[i2]);
+                    let half_edge = 3 * face + i1 as u32;
+                    return self.seed(i, &Source::EdgePoint { half_edge, t });
+                }
+                if self.kind[face as usize] != FaceKind::Proper {
+                    for v in mesh.face(face) {
+                        self.force_pseudo(v);
+                    }
+                }
+                self.seed_point_in_face(i, face, q);
+            }
+        }
+    }
+
+    fn force_pseudo(&mut self, v: u32) {
+        self.pseudo[v as usize] = true;
+        let g = self.group_of[v as usize];
+        if g != NONE {
+            for k in 0..self.groups[g as usize].len() {
+                let u = self.groups[g as usize][k];
+                self.pseudo[u as usize] = true;
+            }
+        }
+    }
+
+    fn seed_vertex(&mut self, i: u32, v: u32) {
+        self.force_pseudo(v);
+        self.relax(v, 0.0, i, Provenance::Source(i));
+    }
+
+    /// A point source `q` in the closed face `f`: one window with source `q`
+    /// on each edge of `f` not containing `q`, lighting the next face; the
+    /// corners get their straight distances.
+    fn seed_point_in_face(&mut self, i: u32, f: u32, q: DVec3) {
+        let mesh = self.mesh;
+        for h in 3 * f..3 * f + 3 {
+            let v = mesh.tail(h);
+            self.relax(v, mesh.position(v).distance(q), i, Provenance::Source(i));
+        }
+        if self.kind[f as usize] != FaceKind::Proper {
+            return;
+        }
+        for h in 3 * f..3 * f + 3 {
+            let Some(t) = mesh.twin(h) else { continue };
+            let c = frame_coords(mesh, h, q);
+            let l = mesh.length(h);
+            if c.y > 0.0 {
+                let w = Window {
+                    b0: 0.0,
+                    b1: l,
+                    p: DVec2::new(l - c.x, -c.y),
+                    sigma: 0.0,
+                    source: i,
+                };
+                self.stats.windows_created += 1;
+                self.append(t, std::slice::from_ref(&w));
+            }
+        }
+    }
+
+    // ------------------------------------------------------------ distances
+
+    /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter.
+    #[inline]
+    fn relax(&mut self, v: u32, d: f64, s: u32, how: Provenance) {
+        if !(d < self.dist[v as usize]) {
+            return;
+        }
+        self.set_dist(v, d, s);
+        if !self.prov.is_empty() {
+            self.prov[v as usize] = how;
+        }
+        let g = self.group_of[v as usize];
+        if g != NONE {
+            for k in 0..self.groups[g as usize].len() {
+                let u = self.groups[g as usize][k];
+                if u != v && d < self.dist[u as usize] {
+                    self.set_dist(u, d, s);
+                    if !self.prov.is_empty() {
+                        self.prov[u as usize] = Provenance::Vertex {
+                            from: v,
+                            length: 0.0,
+                        };
+                    }
+                }
+            }
+        }
+    }
+
+    #[inline]
+    fn set_dist(&mut self, v: u32, d: f64, s: u32) {
+        let vi = v as usize;
+        self.dist[vi] = d;
+        self.src[vi] = s;
+        // A vertex ahead of the wavefront is (re)queued; an inside one only
+        // matters again if it is a pseudo-source that must re-emit.
+        if !self.inside[vi] || (self.pseudo[vi] && self.should_emit(vi, d)) {
+            self.heap.push(Reverse((d.to_bits(), v)));
+        }
+    }
+
+    #[inline]
+    fn should_emit(&self, v: usize, d: f64) -> bool {
+        let e = self.emitted[v];
+        e == f64::INFINITY || self.tol.beats(d, e)
+    }
+
+    // ------------------------------------------------------------ main loop
+
+    fn run(&mut self) {
+        let mesh = self.mesh;
+        while let Some(Reverse((key, v))) = self.heap.pop() {
+            let vi = v as usize;
+            let d = f64::from_bits(key);
+            if d.to_bits() != self.dist[vi].to_bits() {
+                continue; // stale entry (lazy deletion)
+            }
+            if let Some(m) = self.options.max_distance
+                && d > m
+            {
+                break;
+            }
+            let first = !self.inside[vi];
+            let emit = self.pseudo[vi] && self.should_emit(vi, d);
+            if !first && !emit {
+                continue;
+            }
+            self.pops += 1;
+            self.stats.vertex_pops += 1;
+            if first {
+                self.inside[vi] = true;
+                // The faces around v join the traversed area; the lists
+                // waiting to enter them propagate now.
+                for h in mesh.outgoing(v) {
+                    let f = Mesh::face_of(h);
+                    if self.entered[f as usize] == NONE {
+                        self.entered[f as usize] = self.pops;
+                    }
+                    for e in 3 * f..3 * f + 3 {
+                        self.enqueue(e);
+                    }
+                }
+            }
+            if emit {
+                self.emit(v);
+            }
+            while let Some(h) = self.fifo.pop_front() {
+                self.process(h);
+            }
+        }
+    }
+
+    /// Pseudo-source `v`: relax its neighbours along edges and put one
+    /// full-edge window with source `v` on each edge opposite it (Section
+    /// 5.2, "Saddle Vertices").
+    fn emit(&mut self, v: u32) {
+        let mesh = self.mesh;
+        let vi = v as usize;
+        let d = self.dist[vi];
+        let s = self.src[vi];
+        self.emitted[vi] = d;
+        self.stats.pseudo_source_emissions += 1;
+        for h in mesh.outgoing(v) {
+            let a = mesh.head(h);
+            let p = Mesh::prev(h);
+            let b = mesh.tail(p);
+            let (la, lb) = (mesh.length(h), mesh.length(p));
+            self.relax(
+                a,
+                d + la,
+                s,
+                Provenance::Vertex {
+                    from: v,
+                    length: la,
+                },
+            );
+            self.relax(
+                b,
+                d + lb,
+                s,
+                Provenance::Vertex {
+                    from: v,
+                    length: lb,
+                },
+            );
+            let f = Mesh::face_of(h);
+            if self.kind[f as usize] != FaceKind::Proper {
+                continue;
+            }
+            let o = Mesh::next(h);
+            let Some(t) = mesh.twin(o) else { continue };
+            let l = mesh.length(o);
+            let c = self.apex[o as usize];
+            let w = Window {
+                b0: 0.0,
+                b1: l,
+                p: DVec2::new(l - c.x, -c.y),
+                sigma: d,
+                source: s,
+            };
+            self.stats.windows_created += 1;
+            self.append(t, std::slice::from_ref(&w));
+        }
+    }
+
+    #[inline]
+    fn enqueue(&mut self, h: u32) {
+        let hi = h as usize;
+        if self.slot[hi] != NONE && !self.queued[hi] {
+            self.queued[hi] = true;
+            self.fifo.push_back(h);
+        }
+    }
+
+    /// Appends windows to the list of half-edge `h`, pruning adjacent pairs
+    /// (Rule 2 within one propagated list, Rule 3 / order-free secondary
+    /// merge against what the list already holds).
+    fn append(&mut self, h: u32, windows: &[Window]) {
+        if windows.is_empty() {
+            return;
+        }
+        let hi = h as usize;
+        let mut idx = self.slot[hi];
+        if idx == NONE {
+            idx = match self.free.pop() {
+                Some(i) => i,
+                None => {
+                    self.pool.push(Vec::new());
+                    (self.pool.len() - 1) as u32
+                }
+            };
+            self.slot[hi] = idx;
+        }
+        let list = &mut self.pool[idx as usize];
+        let before = list.len();
+        if self.options.pruning.pairwise {
+            for &w in windows {
+                let mut w = w;
+                loop {
+                    let Some(top) = list.last_mut() else {
+                        list.push(w);
+                        break;
+                    };
+                    match prune_adjacent(top, &mut w, &self.tol) {
+                        PairOutcome::KeepBoth => {
+                            list.push(w);
+                            break;
+                        }
+                        PairOutcome::RemoveSecond => break,
+                        PairOutcome::RemoveFirst => {
+                            list.pop();
+                        }
+                    }
+                }
+            }
+        } else {
+            list.extend_from_slice(windows);
+        }
+        let after = list.len();
+        self.live = self.live + after as u64 - before as u64;
+        if self.live > self.stats.peak_live_windows {
+            self.stats.peak_live_windows = self.live;
+        }
+        if after == 0 {
+            self.slot[hi] = NONE;
+            self.free.push(idx);
+            return;
+        }
+        if self.entered[(h / 3) as usize] != NONE {
+            self.enqueue(h);
+        }
+    }
+
+    /// Propagates the list of half-edge `h` through its face (Rules 1 and 2,
+    /// vertex check), lights the apex, and merges the children into the
+    /// lists beyond the two other edges.
+    fn process(&mut self, h: u32) {
+        let hi = h as usize;
+        self.queued[hi] = false;
+        let idx = self.slot[hi];
+        if idx == NONE {
+            return;
+        }
+        self.slot[hi] = NONE;
+        let list = std::mem::take(&mut self.pool[idx as usize]);
+        self.live -= list.len() as u64;
+        let t0 = Instant::now();
+        self.merge_start = t0;
+        let mesh = self.mesh;
+        let f = Mesh::face_of(h);
+        match self.kind[f as usize] {
+            FaceKind::Proper => self.cross(h, &list),
+            FaceKind::Zipper => {
+                if mesh.length(h) > 0.0 {
+                    let n = Mesh::next(h);
+                    let other = if mesh.length(n) > 0.0 {
+                        n
+                    } else {
+                        Mesh::prev(h)
+                    };
+                    if let Some(t) = mesh.twin(other) {
+                        self.append(t, &list);
+                    }
+                }
+            }
+            FaceKind::Blocked => {}
+        }
+        let mut list = list;
+        list.clear();
+        self.pool[idx as usize] = list;
+        self.free.push(idx);
+        let t1 = Instant::now();
+        self.stats.propagation_seconds += (self.merge_start - t0).as_secs_f64();
+        self.stats.pruning_seconds += (t1 - self.merge_start).as_secs_f64();
+    }
+
+    fn cross(&mut self, h: u32, list: &[Window]) {
+        let mesh = self.mesh;
+        let f = Mesh::face_of(h);
+        let n = Mesh::next(h);
+        let p = Mesh::prev(h);
+        let (a, b, c) = (mesh.tail(h), mesh.head(h), mesh.tail(p));
+        let tri = Triangle::with_lengths(
+            mesh.length(h),
+            self.apex[h as usize],
+            mesh.length(p),
+            mesh.length(n),
+        );
+        // Rule 1: separating points, the list's best path to C.
+        let mut info = std::mem::take(&mut self.info);
+        info.clear();
+        let mut best = f64::INFINITY;
+        let mut s = 0;
+        for (i, w) in list.iter().enumerate() {
+            let t = w.split_parameter(&tri);
+            let (d, sp) = w.apex_distance(&tri);
+            info.push((t, sp, d));
+            if d < best {
+                best = d;
+                s = i;
+            }
+        }
+        if best.is_finite() {
+            let w = &list[s];
+            let how = Provenance::Window {
+                half_edge: h,
+                pseudo_source: w.p,
+                sigma: w.sigma,
+                bend: info[s].1,
+            };
+            self.relax(c, best, w.source, how);
+        }
+        let sp_s = info.get(s).map_or(0.0, |x| x.1);
+        let prime = self.entered[f as usize] == self.pops;
+        let rule1 = self.options.pruning.rule1;
+        let check = self.options.pruning.vertex_check;
+        let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
+        let a_right = tri.to_right_frame(DVec2::ZERO);
+        let (da, db, dc) = (
+            self.dist[a as usize],
+            self.dist[b as usize],
+            self.dist[c as usize],
+        );
+        let mut left = std::mem::take(&mut self.left);
+        let mut right = std::mem::take(&mut self.right);
+        left.clear();
+        right.clear();
+        let mut props = 0u64;
+        for (i, w) in list.iter().enumerate() {
+            let (t, sp, d) = info[i];
+            let cut = (rule1 && i != s && self.tol.beats(best, d)).then_some(sp_s);
+            let r = one_angle_two_sides(w, t, sp, cut);
+            if let Some((x0, x1, reach)) = r.left {
+                props += 1;
+                if let Some(cw) = w.child_left(&tri, x0, x1, reach)
+                    && !(check && vertex_check(&cw, tri.lac, da, dc, b_left, db, &self.tol))
+                {
+                    left.push(cw);
+                }
+            }
+            if let Some((x0, x1, from)) = r.right {
+                props += 1;
+                if let Some(cw) = w.child_right(&tri, x0, x1, from)
+                    && !(check && vertex_check(&cw, tri.lcb, dc, db, a_right, da, &self.tol))
+                {
+                    right.push(cw);
+                }
+            }
+        }
+        self.stats.window_propagations += props;
+        self.stats.windows_created += props;
+        if prime {
+            self.stats.prime_propagations += props;
+        } else {
+            self.stats.secondary_propagations += props;
+        }
+        self.merge_start = Instant::now();
+        if let Some(t) = mesh.twin(p) {
+            self.append(t, &left);
+        }
+        if let Some(t) = mesh.twin(n) {
+            self.append(t, &right);
+        }
+        self.left = left;
+        self.right = right;
+        self.info = info;
+    }
+
+    fn finish(self) -> DistanceField {
+        let mesh = self.mesh;
+        let n = mesh.input_vertex_count();
+        let mut distance = self.dist[..n].to_vec();
+        let mut nearest_source = self.src[..n].to_vec();
+        for v in n..mesh.vertex_count() {
+            let o = mesh.pinch_origin(v as u32) as usize;
+            if self.dist[v] < distance[o] {
+                distance[o] = self.dist[v];
+                nearest_source[o] = self.src[v];
+            }
+        }
+        for (d, s) in distance.iter_mut().zip(nearest_source.iter_mut()) {
+            let beyond = self.options.max_distance.is_some_and(|m| *d > m);
+            if !d.is_finite() || beyond {
+                *d = f64::INFINITY;
+                *s = NO_SOURCE;
+            }
+        }
+        DistanceField {
+            distance,
+            nearest_source,
+        }
+    }
+}

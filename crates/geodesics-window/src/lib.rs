@@ -1,0 +1,57 @@
+//! Windows and their geometry, shared by every exact geodesic solver of the
+//! workspace (MMP, ICH, VTP and its variants).
+//!
+//! - [`Window`]: an interval of a half-edge lit by one pseudo-source, in the
+//!   half-edge's 2D frame (tail at the origin, edge along +x, the face to
+//!   cross above, the pseudo-source below).
+//! - [`Triangle`]: the face a window crosses, in that frame; one step of
+//!   propagation ([`Window::propagate`], [`Window::child_left`],
+//!   [`Window::child_right`]), the separating point
+//!   ([`Window::separating_point`]) and lighting the apex
+//!   ([`Window::apex_distance`]).
+//! - [`prune`]: the pairwise and vertex pruning predicates of Qin et al. 2016.
+//! - [`Tolerance`]: the one tolerance policy, relative to the mesh scale.
+//! - [`Source`], [`DistanceField`], [`Stats`]: what every solver takes and
+//!   returns.
+//!
+//! # Example
+//!
+//! A window lighting the whole base of a triangle from straight below its
+//! apex splits into two children, one per opposite edge:
+//!
+//! ```
+//! use geodesics_window::{Triangle, Window};
+//! use glam::DVec2;
+//!
+//! let tri = Triangle::new(2.0, DVec2::new(1.0, 1.0));
+//! let w = Window { b0: 0.0, b1: 2.0, p: DVec2::new(1.0, -1.0), sigma: 0.0, source: 0 };
+//! assert_eq!(w.separating_point(&tri), 1.0);
+//! let (d, _) = w.apex_distance(&tri);
+//! assert!((d - 2.0).abs() < 1e-15);
+//! let (left, right) = w.propagate(&tri);
+//! let (left, right) = (left.unwrap(), right.unwrap());
+//! // Both children end at the apex, at the same distance.
+//! assert!((left.distance_at(left.b1) - 2.0).abs() < 1e-15);
+//! assert!((right.distance_at(right.b0) - 2.0).abs() < 1e-15);
+//! ```
+//!
+//! # Invariants
+//!
+//! - Nothing here allocates; windows are `Copy`.
+//! - No predicate discards a window unless a real path is shorter by more
+//!   than [`Tolerance::margin`] wherever the discarded part could reach.
+//! - No function returns NaN for finite input: degenerate triangles and
+//!   grazing windows give no children.
+
+// Negated comparisons (`!(a < b)`) are deliberate throughout: they make a
+// NaN fail the test, so no NaN can ever pass for a valid interval.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod prune;
+mod tolerance;
+mod types;
+mod window;
+
+pub use tolerance::Tolerance;
+pub use types::{DistanceField, NO_SOURCE, Source, Stats};
+pub use window::{Triangle, Window};

@@ -1,0 +1,98 @@
+//! The one tolerance policy every predicate of every exact solver uses.
+
+use geodesics_mesh::Mesh;
+
+/// Multiple of machine epsilon used for absolute (scale-relative) and
+/// relative length margins. Rounding in a distance evaluated through a few
+/// hundred rigid transforms stays far below `64 ε` of the mesh scale.
+const EPS_MULTIPLE: f64 = 64.0;
+
+/// Angle (radians) below a full turn from which an interior vertex counts
+/// as "flat or saddle" and becomes a pseudo-source. The authors of VTP and
+/// MMP use the same value (`2π − 1e-5`); treating a few nearly flat convex
+/// vertices as pseudo-sources only costs windows, never exactness.
+const FLAT_ANGLE_MARGIN: f64 = 1e-5;
+
+/// Tolerance policy, derived from the scale of one mesh.
+///
+/// Every comparison between two path lengths goes through
+/// [`Tolerance::beats`]: a competitor prunes a window only when it is shorter
+/// by more than the margin. In doubt a window is kept (that costs time),
+/// never discarded (that would cost exactness).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerance {
+    /// Absolute part of the length margin: `64 ε ×` bounding-box diagonal.
+    pub absolute: f64,
+    /// Relative part of the length margin, applied to the larger length compared.
+    pub relative: f64,
+    /// Margin below `2π` of the angle sum above which an interior vertex
+    /// is treated as a pseudo-source (flat or saddle).
+    pub flat_angle: f64,
+}
+
+impl Tolerance {
+    /// The policy for a mesh whose scale (bounding-box diagonal) is `scale`.
+    /// A non-positive or non-finite scale falls back to 1.
+    pub fn for_scale(scale: f64) -> Tolerance {
+        let scale = if scale.is_finite() && scale > 0.0 {
+            scale
+        } else {
+            1.0
+        };
+        Tolerance {
+            absolute: EPS_MULTIPLE * f64::EPSILON * scale,
+            relative: EPS_MULTIPLE * f64::EPSILON,
+            flat_angle: FLAT_ANGLE_MARGIN,
+        }
+    }
+
+    /// The policy for `mesh` (scale = its bounding-box diagonal).
+    pub fn for_mesh(mesh: &Mesh) -> Tolerance {
+        Tolerance::for_scale(mesh.bbox_diagonal())
+    }
+
+    /// Length margin when comparing lengths of magnitude about `magnitude`.
+    #[inline]
+    pub fn margin(&self, magnitude: f64) -> f64 {
+        self.absolute + self.relative * magnitude.abs()
+    }
+
+    /// Whether a path of length `a` is shorter than one of length `b` by
+    /// more than the margin: the only test allowed to discard a window.
+    #[inline]
+    pub fn beats(&self, a: f64, b: f64) -> bool {
+        a + self.margin(b) < b
+    }
+
+    /// Whether an interior vertex with this angle sum is flat or a saddle
+    /// (a geodesic may pass through it, so it must act as a pseudo-source).
+    #[inline]
+    pub fn is_flat_or_saddle(&self, angle_sum: f64) -> bool {
+        angle_sum > std::f64::consts::TAU - self.flat_angle
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn margins_scale_with_the_mesh() {
+        let small = Tolerance::for_scale(1e-6);
+        let big = Tolerance::for_scale(1e6);
+        assert!((big.absolute / small.absolute - 1e12).abs() < 1e-3);
+        assert!(small.beats(1.0e-6, 1.1e-6));
+        assert!(!small.beats(1.0e-6, 1.0e-6 + 1e-22));
+        assert!(!big.beats(1.0e6, 1.0e6 + 1e-9));
+        assert!(big.beats(1.0e6, 1.0e6 + 1e-6));
+        assert_eq!(Tolerance::for_scale(f64::NAN), Tolerance::for_scale(1.0));
+    }
+
+    #[test]
+    fn flat_vertices_count_as_pseudo_sources() {
+        let t = Tolerance::for_scale(1.0);
+        assert!(t.is_flat_or_saddle(std::f64::consts::TAU));
+        assert!(t.is_flat_or_saddle(std::f64::consts::TAU - 1e-7));
+        assert!(!t.is_flat_or_saddle(6.0));
+    }
+}

@@ -1,0 +1,74 @@
+//! Types shared by every solver: sources, the distance field, statistics.
+
+/// Where a geodesic distance field starts. Several sources make one field:
+/// the distance to the nearest of them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Source {
+    /// A mesh vertex (an input vertex index; for a pinch vertex, any of its
+    /// fan copies is the same point).
+    Vertex(u32),
+    /// A point on the edge of half-edge `half_edge`, at `t` from its tail
+    /// (`0`) to its head (`1`).
+    EdgePoint {
+        /// The half-edge (`3 * face + corner`).
+        half_edge: u32,
+        /// Position along the half-edge, in `[0, 1]`.
+        t: f64,
+    },
+    /// A point inside face `face` with barycentric coordinates relative to
+    /// the face's corners in [`geodesics_mesh::Mesh::face`] order.
+    FacePoint {
+        /// The face.
+        face: u32,
+        /// Barycentric coordinates: finite, non-negative, summing to 1.
+        barycentric: [f64; 3],
+    },
+}
+
+/// Sentinel of [`DistanceField::nearest_source`] for unreachable vertices.
+pub const NO_SOURCE: u32 = u32::MAX;
+
+/// The result of a solve: one value per input vertex (pinch copies folded).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DistanceField {
+    /// Geodesic distance to the nearest source; `f64::INFINITY` where no
+    /// source reaches (other component, unreferenced vertex, beyond the
+    /// maximum distance).
+    pub distance: Vec<f64>,
+    /// Index into the sources of the nearest source, [`NO_SOURCE`] where
+    /// unreachable.
+    pub nearest_source: Vec<u32>,
+}
+
+/// What a solve did, counted the way the papers count it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Windows created (seeds, pseudo-source windows, propagated children).
+    pub windows_created: u64,
+    /// Window propagations as VTP counts them: each left or right child
+    /// computed counts once.
+    pub window_propagations: u64,
+    /// Propagations through faces that joined the traversed area in the
+    /// current expansion step (ΔR in the paper).
+    pub prime_propagations: u64,
+    /// Propagations through faces that were already traversed (R).
+    pub secondary_propagations: u64,
+    /// Largest number of windows alive at once.
+    pub peak_live_windows: u64,
+    /// `peak_live_windows` times the size of one window.
+    pub peak_window_bytes: u64,
+    /// Vertices popped from the wavefront queue (re-emissions included).
+    pub vertex_pops: u64,
+    /// Pseudo-source emissions (sources, saddles, boundary, pinch vertices).
+    pub pseudo_source_emissions: u64,
+    /// Seconds spent propagating windows (Rule 1 splitting, children, and
+    /// the vertex check applied to each child as it is made).
+    pub propagation_seconds: f64,
+    /// Seconds spent merging children into the lists beyond (Rules 2 and 3:
+    /// pairwise checks between adjacent windows).
+    pub pruning_seconds: f64,
+    /// Seconds spent managing the wavefront (queue, list bookkeeping).
+    pub management_seconds: f64,
+    /// Total seconds of the solve.
+    pub total_seconds: f64,
+}

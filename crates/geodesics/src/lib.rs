@@ -1,0 +1,148 @@
+//! Exact geodesic distances on triangle meshes: the facade over the solver
+//! crates, with one entry point, [`compute`].
+//!
+//! Pick a solver with [`Algorithm`] (by value or by the names the CLI and the
+//! papers use), give a validated [`Mesh`] and one or more [`Source`]s, get a
+//! [`DistanceField`] (one distance per input vertex, `f64::INFINITY` where
+//! unreachable) and the [`Stats`] of the run. Every solver returns the same
+//! types, so callers can swap them freely.
+//!
+//! # Example
+//!
+//! ```
+//! use geodesics::{Algorithm, BuildOptions, Mesh, Source, compute};
+//!
+//! // A flat 10 x 10 grid: geodesic distance is the straight-line distance.
+//! let grid = geodesics_shapes::flat_grid(10, 10, 1.0);
+//! let mesh = Mesh::build(grid, &BuildOptions::default())?;
+//! let algorithm: Algorithm = "vtp".parse()?;
+//! let (field, stats) = compute(&mesh, &[Source::Vertex(0)], &algorithm)?;
+//! let far_corner = 11 * 11 - 1;
+//! assert!((field.distance[far_corner] - 200f64.sqrt()).abs() < 1e-12);
+//! assert!(stats.window_propagations > 0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::fmt;
+use std::str::FromStr;
+
+pub use geodesics_io as io;
+pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
+pub use geodesics_vtp::{Pruning, VtpError, VtpOptions};
+pub use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats};
+
+/// Errors of the facade: one per solver crate, plus bad algorithm names.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The mesh could not be built.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The VTP solver refused its input.
+    #[error(transparent)]
+    Vtp(#[from] VtpError),
+    /// No algorithm has this name.
+    #[error("unknown algorithm `{name}` (known: {})", Algorithm::NAMES.join(", "))]
+    UnknownAlgorithm {
+        /// The name given.
+        name: String,
+    },
+}
+
+/// A geodesic solver and its settings.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Algorithm {
+    /// Vertex-oriented triangle propagation (Qin et al. 2016), exact.
+    Vtp(VtpOptions),
+}
+
+impl Algorithm {
+    /// Names accepted by [`FromStr`] (and the CLI's `--algorithm`).
+    pub const NAMES: &'static [&'static str] = &["vtp", "vtp-no-rule1", "vtp-no-rules23"];
+
+    /// The paper's name of this algorithm (column headers of the tables).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Algorithm::Vtp(o) => match (o.pruning.rule1, o.pruning.pairwise) {
+                (true, true) => "vtp",
+                (false, true) => "vtp-no-rule1",
+                (true, false) => "vtp-no-rules23",
+                (false, false) => "vtp-unpruned",
+            },
+        }
+    }
+
+    /// Stops propagation beyond `max_distance` (farther vertices are ∞).
+    pub fn with_max_distance(mut self, max_distance: Option<f64>) -> Self {
+        match &mut self {
+            Algorithm::Vtp(o) => o.max_distance = max_distance,
+        }
+        self
+    }
+}
+
+impl Default for Algorithm {
+    fn default() -> Self {
+        Algorithm::Vtp(VtpOptions::default())
+    }
+}
+
+impl fmt::Display for Algorithm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Algorithm {
+    type Err = Error;
+
+    fn from_str(name: &str) -> Result<Self, Error> {
+        let vtp = |rule1: bool, pairwise: bool| {
+            Algorithm::Vtp(VtpOptions {
+                pruning: Pruning {
+                    rule1,
+                    pairwise,
+                    ..Pruning::default()
+                },
+                ..VtpOptions::default()
+            })
+        };
+        match name.to_ascii_lowercase().as_str() {
+            "vtp" => Ok(vtp(true, true)),
+            "vtp-no-rule1" => Ok(vtp(false, true)),
+            "vtp-no-rules23" => Ok(vtp(true, false)),
+            _ => Err(Error::UnknownAlgorithm {
+                name: name.to_string(),
+            }),
+        }
+    }
+}
+
+/// Computes geodesic distances from `sources` (the distance to the nearest)
+/// to every input vertex of `mesh` with `algorithm`.
+pub fn compute(
+    mesh: &Mesh,
+    sources: &[Source],
+    algorithm: &Algorithm,
+) -> Result<(DistanceField, Stats), Error> {
+    match algorithm {
+        Algorithm::Vtp(options) => Ok(geodesics_vtp::solve(mesh, sources, options)?),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for &name in Algorithm::NAMES {
+            let a: Algorithm = name.parse().unwrap();
+            assert_eq!(a.name(), name);
+        }
+        let err = "dijkstra".parse::<Algorithm>().unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "unknown algorithm `dijkstra` (known: vtp, vtp-no-rule1, vtp-no-rules23)"
+        );
+    }
+}
