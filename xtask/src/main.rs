@@ -50,18 +50,8 @@ fn flag_value(args: &[String], flag: &str) -> Result<Option<usize>> {
 }
 
 fn data_dir() -> Result<PathBuf> {
-    let dir = std::env::var_os("GEODESICS_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/meshes")
-        });
-    if !dir.is_dir() {
-        bail!(
-            "mesh folder {} not found (set GEODESICS_DATA)",
-            dir.display()
-        );
-    }
-    Ok(dir)
+    geodesics_tests::data_dir("cargo xtask")
+        .context("no mesh folder: set GEODESICS_DATA to the real meshes")
 }
 
 fn read(path: &Path) -> Result<geodesics::IndexedTriangles> {

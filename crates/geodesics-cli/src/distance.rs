@@ -102,18 +102,13 @@ pub fn run(args: &DistanceArgs) -> Result<()> {
     crate::print_stdout(&summary(&report, &args.output))
 }
 
+/// Refuses before the solve (which may be long) rather than after it.
 fn refuse_input_as_output(out: &Path, inputs: &[&Path]) -> Result<()> {
-    for input in inputs {
-        let same = match (out.canonicalize(), input.canonicalize()) {
-            (Ok(a), Ok(b)) => a == b,
-            _ => out == *input,
-        };
-        if same {
-            bail!(
-                "{}: refusing to overwrite the input mesh with the output",
-                out.display()
-            );
-        }
+    if geodesics::io::would_overwrite(out, inputs) {
+        bail!(
+            "{}: refusing to overwrite the input mesh with the output",
+            out.display()
+        );
     }
     Ok(())
 }

@@ -91,8 +91,7 @@ fn flat_grid_from_a_face_point_is_euclidean() {
         let want = ((x - sx).powi(2) + (y - sy).powi(2)).sqrt();
         assert!((got - want).abs() < 1e-12, "vertex {v}: {got} vs {want}");
     }
-    // The same point as an edge source on a point of edge 0-12? No: test an
-    // edge point on the boundary edge 0-1 at t = 0.25.
+    // A point on the boundary edge 0-1, given from vertex 1: (0.25, 0).
     ok(&geodesics(&[
         "distance",
         "--demo",

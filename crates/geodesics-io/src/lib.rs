@@ -53,7 +53,7 @@ use std::path::Path;
 
 pub use error::{IoError, Location};
 pub use geodesics_mesh::IndexedTriangles;
-pub use write::{FieldFormat, write_bytes_atomic, write_field};
+pub use write::{FieldFormat, would_overwrite, write_bytes_atomic, write_field};
 
 use error::display_name;
 

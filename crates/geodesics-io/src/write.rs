@@ -88,7 +88,7 @@ pub fn write_field(
     if format == FieldFormat::Ply && mesh.is_none() {
         return Err(IoError::MeshRequired { file });
     }
-    if protected_inputs.iter().any(|input| same_file(path, input)) {
+    if would_overwrite(path, protected_inputs) {
         return Err(IoError::WouldOverwriteInput { file });
     }
     let io_err = |source| IoError::Io {
@@ -124,7 +124,7 @@ pub fn write_bytes_atomic(
     protected_inputs: &[&Path],
 ) -> Result<(), IoError> {
     let file = display_name(path);
-    if protected_inputs.iter().any(|input| same_file(path, input)) {
+    if would_overwrite(path, protected_inputs) {
         return Err(IoError::WouldOverwriteInput { file });
     }
     atomic_write(path, |w| w.write_all(bytes)).map_err(|source| IoError::Io { file, source })
@@ -141,6 +141,13 @@ fn resolve(path: &Path) -> Option<PathBuf> {
         _ => Path::new("."),
     };
     Some(fs::canonicalize(parent).ok()?.join(name))
+}
+
+/// Whether writing `out` would replace one of `inputs` (same path after
+/// resolving `.`, `..` and symlinks, or the same file through a hard link):
+/// lets a caller refuse before long work, as the writers do themselves.
+pub fn would_overwrite(out: &Path, inputs: &[&Path]) -> bool {
+    inputs.iter().any(|input| same_file(out, input))
 }
 
 /// Whether writing `out` would replace the file `input`.
