@@ -5,13 +5,21 @@ use std::collections::{BinaryHeap, VecDeque};
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
-use geodesics_window::prune::{PairOutcome, one_angle_two_sides, prune_adjacent, vertex_check};
-use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window};
+use geodesics_window::prune::{
+    PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_splitting, vertex_check_ended,
+};
+use geodesics_window::{
+    DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window,
+};
 use glam::{DVec2, DVec3};
 
 use crate::{Provenance, VtpError, VtpOptions};
 
 const NONE: u32 = u32::MAX;
+
+/// One window list in this many has its phases timed; the phase times are
+/// scaled up accordingly (an estimate, unbiased over many lists).
+const PHASE_SAMPLE: u64 = 32;
 
 /// How a face is crossed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,7 +55,7 @@ struct Solver<'a> {
     heap: BinaryHeap<Reverse<(u64, u32)>>,
     /// Per half-edge: index of its window list in `pool`, or NONE.
     slot: Vec<u32>,
-    pool: Vec<Vec<Window>>,
+    pool: Vec<Vec<EndedWindow>>,
     free: Vec<u32>,
     queued: Vec<bool>,
     fifo: VecDeque<u32>,
@@ -56,11 +64,15 @@ struct Solver<'a> {
     pops: u32,
     live: u64,
     stats: Stats,
-    left: Vec<Window>,
-    right: Vec<Window>,
+    left: Vec<EndedWindow>,
+    right: Vec<EndedWindow>,
     info: Vec<(f64, f64, f64)>,
-    /// When the current list's children were computed (phase timing).
-    merge_start: Instant,
+    /// When the current list's children were computed (phase timing, on
+    /// the sampled lists only).
+    merge_start: Option<Instant>,
+    /// Whether the current list is one of the timed samples.
+    timing: bool,
+    lists_processed: u64,
     /// Per vertex: how its distance was last set (only when recording).
     prov: Vec<Provenance>,
 }
@@ -83,7 +95,7 @@ pub(crate) fn solve(
     stats.total_seconds = start.elapsed().as_secs_f64();
     stats.management_seconds =
         (stats.total_seconds - stats.propagation_seconds - stats.pruning_seconds).max(0.0);
-    stats.peak_window_bytes = stats.peak_live_windows * std::mem::size_of::<Window>() as u64;
+    stats.peak_window_bytes = stats.peak_live_windows * std::mem::size_of::<EndedWindow>() as u64;
     Ok((field, stats, prov))
 }
 
@@ -246,7 +258,9 @@ impl<'a> Solver<'a> {
             left: Vec::new(),
             right: Vec::new(),
             info: Vec::new(),
-            merge_start: Instant::now(),
+            merge_start: None,
+            timing: false,
+            lists_processed: 0,
             prov: if options.record_provenance {
                 vec![Provenance::Unreached; nv]
             } else {
@@ -348,7 +362,7 @@ impl<'a> Solver<'a> {
                     source: i,
                 };
                 self.stats.windows_created += 1;
-                self.append(t, std::slice::from_ref(&w));
+                self.append(t, &[EndedWindow::new(w)]);
             }
         }
     }
@@ -434,6 +448,10 @@ impl<'a> Solver<'a> {
                     for e in 3 * f..3 * f + 3 {
                         self.enqueue(e);
                     }
+                    let p = Mesh::prev(h);
+                    for e in [mesh.twin(h), mesh.twin(p)].into_iter().flatten() {
+                        self.enqueue(e);
+                    }
                 }
             }
             if emit {
@@ -494,7 +512,7 @@ impl<'a> Solver<'a> {
                 source: s,
             };
             self.stats.windows_created += 1;
-            self.append(t, std::slice::from_ref(&w));
+            self.append(t, &[EndedWindow::new(w)]);
         }
     }
 
@@ -510,7 +528,7 @@ impl<'a> Solver<'a> {
     /// Appends windows to the list of half-edge `h`, pruning adjacent pairs
     /// (Rule 2 within one propagated list, Rule 3 / order-free secondary
     /// merge against what the list already holds).
-    fn append(&mut self, h: u32, windows: &[Window]) {
+    fn append(&mut self, h: u32, windows: &[EndedWindow]) {
         if windows.is_empty() {
             return;
         }
@@ -536,14 +554,24 @@ impl<'a> Solver<'a> {
                         list.push(w);
                         break;
                     };
-                    match prune_adjacent(top, &mut w, &self.tol) {
-                        PairOutcome::KeepBoth => {
+                    match prune_adjacent_splitting(top, &mut w, &self.tol) {
+                        SplitOutcome::Pair(PairOutcome::KeepBoth) => {
                             list.push(w);
                             break;
                         }
-                        PairOutcome::RemoveSecond => break,
-                        PairOutcome::RemoveFirst => {
+                        SplitOutcome::Pair(PairOutcome::RemoveSecond) => break,
+                        SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
                             list.pop();
+                        }
+                        SplitOutcome::FirstSplit(right) => {
+                            // [top's left piece, w, top's right piece]
+                            list.push(w);
+                            w = right;
+                        }
+                        SplitOutcome::SecondSplit(right) => {
+                            // [w's left piece, top, w's right piece]
+                            list.insert(list.len() - 1, w);
+                            w = right;
                         }
                     }
                 }
@@ -561,7 +589,7 @@ impl<'a> Solver<'a> {
             self.free.push(idx);
             return;
         }
-        if self.entered[(h / 3) as usize] != NONE {
+        if self.inside[self.mesh.tail(h) as usize] || self.inside[self.mesh.head(h) as usize] {
             self.enqueue(h);
         }
     }
@@ -577,14 +605,18 @@ impl<'a> Solver<'a> {
             return;
         }
         self.slot[hi] = NONE;
-        let list = std::mem::take(&mut self.pool[idx as usize]);
+        let mut list = std::mem::take(&mut self.pool[idx as usize]);
         self.live -= list.len() as u64;
-        let t0 = Instant::now();
+        // Phase times are sampled: one list in PHASE_SAMPLE is timed (two
+        // clock reads per list would cost more than some lists' work).
+        self.lists_processed += 1;
+        self.timing = self.lists_processed.is_multiple_of(PHASE_SAMPLE);
+        let t0 = self.timing.then(Instant::now);
         self.merge_start = t0;
         let mesh = self.mesh;
         let f = Mesh::face_of(h);
         match self.kind[f as usize] {
-            FaceKind::Proper => self.cross(h, &list),
+            FaceKind::Proper => self.cross(h, &mut list),
             FaceKind::Zipper => {
                 if mesh.length(h) > 0.0 {
                     let n = Mesh::next(h);
@@ -600,16 +632,17 @@ impl<'a> Solver<'a> {
             }
             FaceKind::Blocked => {}
         }
-        let mut list = list;
         list.clear();
         self.pool[idx as usize] = list;
         self.free.push(idx);
-        let t1 = Instant::now();
-        self.stats.propagation_seconds += (self.merge_start - t0).as_secs_f64();
-        self.stats.pruning_seconds += (t1 - self.merge_start).as_secs_f64();
+        if let (Some(t0), Some(t_merge)) = (t0, self.merge_start) {
+            let t1 = Instant::now();
+            self.stats.propagation_seconds += (t_merge - t0).as_secs_f64() * PHASE_SAMPLE as f64;
+            self.stats.pruning_seconds += (t1 - t_merge).as_secs_f64() * PHASE_SAMPLE as f64;
+        }
     }
 
-    fn cross(&mut self, h: u32, list: &[Window]) {
+    fn cross(&mut self, h: u32, list: &mut Vec<EndedWindow>) {
         let mesh = self.mesh;
         let f = Mesh::face_of(h);
         let n = Mesh::next(h);
@@ -621,14 +654,44 @@ impl<'a> Solver<'a> {
             mesh.length(p),
             mesh.length(n),
         );
+        // Checking with vertices again before propagating (Cases 10-12):
+        // the list may have waited on the wavefront while the distances of
+        // its edge's ends, and of the vertex behind it, went down.
+        if self.options.pruning.vertex_check {
+            let (da, db) = (self.dist[a as usize], self.dist[b as usize]);
+            let (behind, d_behind) = match mesh.twin(h) {
+                Some(t) if self.kind[Mesh::face_of(t) as usize] == FaceKind::Proper => {
+                    let q = self.apex[t as usize];
+                    (
+                        DVec2::new(tri.l - q.x, -q.y),
+                        self.dist[mesh.opposite_vertex(t) as usize],
+                    )
+                }
+                _ => (DVec2::ZERO, f64::INFINITY),
+            };
+            let tol = self.tol;
+            list.retain(|w| !vertex_check_ended(w, tri.l, da, db, behind, d_behind, &tol));
+        }
+        let list = &list[..];
         // Rule 1: separating points, the list's best path to C.
         let mut info = std::mem::take(&mut self.info);
         info.clear();
         let mut best = f64::INFINITY;
         let mut s = 0;
-        for (i, w) in list.iter().enumerate() {
+        for (i, e) in list.iter().enumerate() {
+            let w = &e.window;
+            // The apex through the window (Section 4.1's `dis`): straight
+            // when visible, else bent at the nearer end (ends are cached).
             let t = w.split_parameter(&tri);
-            let (d, sp) = w.apex_distance(&tri);
+            let (d, sp) = if t < w.b0 {
+                (e.d0 + DVec2::new(w.b0, 0.0).distance(tri.c), w.b0)
+            } else if t > w.b1 {
+                (e.d1 + DVec2::new(w.b1, 0.0).distance(tri.c), w.b1)
+            } else if t >= w.b0 {
+                (w.distance_to(tri.c), t)
+            } else {
+                (f64::INFINITY, w.b0) // NaN split: the window lights nothing
+            };
             info.push((t, sp, d));
             if d < best {
                 best = d;
@@ -636,7 +699,7 @@ impl<'a> Solver<'a> {
             }
         }
         if best.is_finite() {
-            let w = &list[s];
+            let w = &list[s].window;
             let how = Provenance::Window {
                 half_edge: h,
                 pseudo_source: w.p,
@@ -661,24 +724,28 @@ impl<'a> Solver<'a> {
         left.clear();
         right.clear();
         let mut props = 0u64;
-        for (i, w) in list.iter().enumerate() {
+        for (i, e) in list.iter().enumerate() {
+            let w = &e.window;
             let (t, sp, d) = info[i];
             let cut = (rule1 && i != s && self.tol.beats(best, d)).then_some(sp_s);
             let r = one_angle_two_sides(w, t, sp, cut);
             if let Some((x0, x1, reach)) = r.left {
                 props += 1;
-                if let Some(cw) = w.child_left(&tri, x0, x1, reach)
-                    && !(check && vertex_check(&cw, tri.lac, da, dc, b_left, db, &self.tol))
-                {
-                    left.push(cw);
+                if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
+                    let cw = EndedWindow::new(cw);
+                    if !(check && vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &self.tol)) {
+                        left.push(cw);
+                    }
                 }
             }
             if let Some((x0, x1, from)) = r.right {
                 props += 1;
-                if let Some(cw) = w.child_right(&tri, x0, x1, from)
-                    && !(check && vertex_check(&cw, tri.lcb, dc, db, a_right, da, &self.tol))
-                {
-                    right.push(cw);
+                if let Some(cw) = w.child_right(&tri, x0, x1, from) {
+                    let cw = EndedWindow::new(cw);
+                    if !(check && vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &self.tol))
+                    {
+                        right.push(cw);
+                    }
                 }
             }
         }
@@ -689,7 +756,9 @@ impl<'a> Solver<'a> {
         } else {
             self.stats.secondary_propagations += props;
         }
-        self.merge_start = Instant::now();
+        if self.timing {
+            self.merge_start = Some(Instant::now());
+        }
         if let Some(t) = mesh.twin(p) {
             self.append(t, &left);
         }

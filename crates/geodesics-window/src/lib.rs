@@ -4,6 +4,8 @@
 //! - [`Window`]: an interval of a half-edge lit by one pseudo-source, in the
 //!   half-edge's 2D frame (tail at the origin, edge along +x, the face to
 //!   cross above, the pseudo-source below).
+//! - [`EndedWindow`]: a window with its end distances cached, the form
+//!   solvers keep in lists.
 //! - [`Triangle`]: the face a window crosses, in that frame; one step of
 //!   propagation ([`Window::propagate`], [`Window::child_left`],
 //!   [`Window::child_right`]), the separating point
@@ -54,4 +56,4 @@ mod window;
 
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats};
-pub use window::{Triangle, Window};
+pub use window::{EndedWindow, Triangle, Window};

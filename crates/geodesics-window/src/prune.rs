@@ -11,12 +11,12 @@
 //! | Situation 1–2, Cases 1, 2, 4, 5 (overlapping windows on one edge, from the same or from two edges) | [`overlap_dominance`], [`prune_adjacent`] |
 //! | Situation 3, Cases 7–9 (one list, two sides: Rule 1, "one angle two sides") | [`one_angle_two_sides`] |
 //! | Situation 4, Cases 10–12 (checking with vertices, the ICH filter) | [`vertex_check`] |
-//! | Cases 3, 6 (windows whose rays crossed inside the triangle) | not pruned pairwise: they are disjoint on the edge and the vertex check and Rule 1 of the next face catch them |
+//! | Cases 3, 6 (windows whose rays crossed inside the triangle, so they come out side by side in swapped order) | [`disjoint_pair`] (called by [`prune_adjacent`]) |
 //! | Case 13 | skipped, as in the paper |
 
 use glam::DVec2;
 
-use crate::{Tolerance, Window};
+use crate::{EndedWindow, Tolerance, Window};
 
 /// The sub-ranges of a window's interval that go to each side of the apex
 /// after Rule 1 (`[x0, x1]` on `AB`, plus whether the range ends exactly at
@@ -89,14 +89,36 @@ pub fn vertex_check(
     d_third: f64,
     tol: &Tolerance,
 ) -> bool {
-    let e0 = w.distance_at(w.b0);
-    let e1 = w.distance_at(w.b1);
-    if tol.beats(d_start + w.b1, e1) || tol.beats(d_end + (len - w.b0), e0) {
+    vertex_check_ended(
+        &EndedWindow::new(*w),
+        len,
+        d_start,
+        d_end,
+        third,
+        d_third,
+        tol,
+    )
+}
+
+/// [`vertex_check`] on a window whose end distances are cached.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn vertex_check_ended(
+    w: &EndedWindow,
+    len: f64,
+    d_start: f64,
+    d_end: f64,
+    third: DVec2,
+    d_third: f64,
+    tol: &Tolerance,
+) -> bool {
+    let (b0, b1) = (w.window.b0, w.window.b1);
+    if tol.beats(d_start + b1, w.d1) || tol.beats(d_end + (len - b0), w.d0) {
         return true;
     }
     d_third.is_finite()
-        && tol.beats(d_third + third.distance(DVec2::new(w.b0, 0.0)), e0)
-        && tol.beats(d_third + third.distance(DVec2::new(w.b1, 0.0)), e1)
+        && tol.beats(d_third + third.distance(DVec2::new(b0, 0.0)), w.d0)
+        && tol.beats(d_third + third.distance(DVec2::new(b1, 0.0)), w.d1)
 }
 
 /// Which of two windows on the same edge (same frame) is shorter on their
@@ -123,33 +145,65 @@ pub enum Dominance {
 /// meets the edge, and extremal at `x*`; so checking the overlap ends and
 /// `x*` (if inside) decides "everywhere".
 pub fn overlap_dominance(w0: &Window, w1: &Window, tol: &Tolerance) -> Dominance {
+    overlap_dominance_ended(&EndedWindow::new(*w0), &EndedWindow::new(*w1), tol)
+}
+
+/// [`overlap_dominance`] on windows whose end distances are cached: the
+/// overlap's ends are ends of the windows, so half the distances are known.
+#[inline]
+pub fn overlap_dominance_ended(e0: &EndedWindow, e1: &EndedWindow, tol: &Tolerance) -> Dominance {
+    compare_on_overlap(e0, e1, tol).0
+}
+
+/// Distances of two windows at the ends `c0 < c1` of their overlap:
+/// `[w0(c0), w1(c0), w0(c1), w1(c1)]`.
+type OverlapEnds = [f64; 4];
+
+/// [`overlap_dominance_ended`], also giving the distances at the overlap's
+/// ends (unset when disjoint).
+#[inline]
+fn compare_on_overlap(
+    e0: &EndedWindow,
+    e1: &EndedWindow,
+    tol: &Tolerance,
+) -> (Dominance, OverlapEnds) {
+    let (w0, w1) = (&e0.window, &e1.window);
     let c0 = w0.b0.max(w1.b0);
     let c1 = w0.b1.min(w1.b1);
     if !(c0 < c1) {
-        return Dominance::Disjoint;
+        return (Dominance::Disjoint, [f64::NAN; 4]);
     }
-    let mut first = true;
-    let mut second = true;
-    let mut test = |x: f64| {
-        let d0 = w0.distance_at(x);
-        let d1 = w1.distance_at(x);
-        first &= tol.beats(d0, d1);
-        second &= tol.beats(d1, d0);
+    let at = |e: &EndedWindow, x: f64| {
+        if x == e.window.b0 {
+            e.d0
+        } else if x == e.window.b1 {
+            e.d1
+        } else {
+            e.window.distance_at(x)
+        }
     };
-    test(c0);
-    test(c1);
+    let ends = [at(e0, c0), at(e1, c0), at(e0, c1), at(e1, c1)];
+    let [a0, a1, b0, b1] = ends;
+    let mut first = tol.beats(a0, a1) && tol.beats(b0, b1);
+    let mut second = tol.beats(a1, a0) && tol.beats(b1, b0);
+    if !first && !second {
+        return (Dominance::Neither, ends);
+    }
     let (p, q) = (w0.p, w1.p);
     if p.y != q.y {
         let xs = p.x + (q.x - p.x) * (-p.y) / (q.y - p.y);
         if xs > c0 && xs < c1 {
-            test(xs);
+            let (d0, d1) = (w0.distance_at(xs), w1.distance_at(xs));
+            first &= tol.beats(d0, d1);
+            second &= tol.beats(d1, d0);
         }
     }
-    match (first, second) {
+    let dominance = match (first, second) {
         (true, _) => Dominance::First,
         (_, true) => Dominance::Second,
         _ => Dominance::Neither,
-    }
+    };
+    (dominance, ends)
 }
 
 /// What [`prune_adjacent`] decided.
@@ -169,25 +223,261 @@ pub enum PairOutcome {
 /// it lies inside it, trimmed if it sticks out on one side, kept whole if it
 /// sticks out on both (trimming would split it).
 pub fn prune_adjacent(w0: &mut Window, w1: &mut Window, tol: &Tolerance) -> PairOutcome {
-    match overlap_dominance(w0, w1, tol) {
-        Dominance::First => trim_loser(w0, w1, PairOutcome::RemoveSecond),
-        Dominance::Second => trim_loser(w1, w0, PairOutcome::RemoveFirst),
-        Dominance::Disjoint | Dominance::Neither => PairOutcome::KeepBoth,
+    let mut e0 = EndedWindow::new(*w0);
+    let mut e1 = EndedWindow::new(*w1);
+    let outcome = prune_adjacent_ended(&mut e0, &mut e1, tol);
+    *w0 = e0.window;
+    *w1 = e1.window;
+    outcome
+}
+
+/// [`prune_adjacent`] on windows whose end distances are cached (trimming
+/// keeps the caches exact).
+#[inline]
+pub fn prune_adjacent_ended(
+    w0: &mut EndedWindow,
+    w1: &mut EndedWindow,
+    tol: &Tolerance,
+) -> PairOutcome {
+    match prune_pair(w0, w1, tol, false) {
+        SplitOutcome::Pair(outcome) => outcome,
+        SplitOutcome::FirstSplit(_) | SplitOutcome::SecondSplit(_) => {
+            unreachable!("prune_pair splits nothing when splitting is off")
+        }
     }
 }
 
+/// What [`prune_adjacent_splitting`] decided.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplitOutcome {
+    /// As [`prune_adjacent`].
+    Pair(PairOutcome),
+    /// The first window lost the middle of its interval to the second: it
+    /// is now its left piece, and this is its right piece (it goes after
+    /// the second window).
+    FirstSplit(EndedWindow),
+    /// The second window lost the middle of its interval to the first: it
+    /// is now its left piece (it goes before the first window), and this is
+    /// its right piece (after the first window).
+    SecondSplit(EndedWindow),
+}
+
+/// [`prune_adjacent_ended`], except that a window that loses the middle of
+/// its interval (the other is shorter on all of it and it sticks out on
+/// both sides) is cut into its two outer pieces instead of being kept
+/// whole: the trimming of MMP (Surazhsky et al. 2005) carried to the case
+/// the paper's Case 2 leaves alone. Pseudo-source windows, which span a
+/// whole edge, are the usual losers.
 #[inline]
-fn trim_loser(winner: &Window, loser: &mut Window, remove: PairOutcome) -> PairOutcome {
-    let left_out = loser.b0 < winner.b0;
-    let right_out = loser.b1 > winner.b1;
+pub fn prune_adjacent_splitting(
+    w0: &mut EndedWindow,
+    w1: &mut EndedWindow,
+    tol: &Tolerance,
+) -> SplitOutcome {
+    prune_pair(w0, w1, tol, true)
+}
+
+#[inline]
+fn prune_pair(
+    w0: &mut EndedWindow,
+    w1: &mut EndedWindow,
+    tol: &Tolerance,
+    split: bool,
+) -> SplitOutcome {
+    let (dominance, ends) = compare_on_overlap(w0, w1, tol);
+    let outcome = match dominance {
+        Dominance::First => {
+            if split && w1.window.b0 < w0.window.b0 && w1.window.b1 > w0.window.b1 {
+                let right = cut_middle(w1, &w0.window);
+                return SplitOutcome::SecondSplit(right);
+            }
+            trim_loser(&w0.window, w1, PairOutcome::RemoveSecond)
+        }
+        Dominance::Second => {
+            if split && w0.window.b0 < w1.window.b0 && w0.window.b1 > w1.window.b1 {
+                let right = cut_middle(w0, &w1.window);
+                return SplitOutcome::FirstSplit(right);
+            }
+            trim_loser(&w1.window, w0, PairOutcome::RemoveFirst)
+        }
+        Dominance::Neither => {
+            trim_at_tie(w0, w1, ends, tol);
+            PairOutcome::KeepBoth
+        }
+        Dominance::Disjoint => PairOutcome::KeepBoth,
+    };
+    if outcome != PairOutcome::KeepBoth {
+        return SplitOutcome::Pair(outcome);
+    }
+    SplitOutcome::Pair(if w0.window.b1 <= w1.window.b0 {
+        disjoint_pair(w0, w1, tol)
+    } else if w1.window.b1 <= w0.window.b0 {
+        match disjoint_pair(w1, w0, tol) {
+            PairOutcome::RemoveFirst => PairOutcome::RemoveSecond,
+            PairOutcome::RemoveSecond => PairOutcome::RemoveFirst,
+            PairOutcome::KeepBoth => PairOutcome::KeepBoth,
+        }
+    } else {
+        PairOutcome::KeepBoth
+    })
+}
+
+/// Cuts the interval of `winner` out of `loser`: `loser` keeps its left
+/// piece, the right piece is returned.
+#[inline]
+fn cut_middle(loser: &mut EndedWindow, winner: &Window) -> EndedWindow {
+    let mut right = *loser;
+    right.set_start(winner.b1);
+    loser.set_end(winner.b0);
+    right
+}
+
+/// Two windows side by side on one edge, `left` ending where or before
+/// `right` starts (Cases 3 and 6 of Fig 3: after their rays crossed, the
+/// windows come out in swapped order and one of them is redundant; the
+/// test is sound for any two windows on one edge).
+///
+/// A path can reach the near end of `left` through `left` and then walk
+/// along the edge (Observation (a)). Along the edge `σ + |p x| − x` never
+/// increases, so if that walk beats `right` at its far end it beats it
+/// everywhere, and `right` is redundant; symmetrically for `left`.
+#[inline]
+pub fn disjoint_pair(left: &EndedWindow, right: &EndedWindow, tol: &Tolerance) -> PairOutcome {
+    let (l, r) = (&left.window, &right.window);
+    if tol.beats(left.d1 + (r.b1 - l.b1), right.d1) {
+        return PairOutcome::RemoveSecond;
+    }
+    if tol.beats(right.d0 + (r.b0 - l.b0), left.d0) {
+        return PairOutcome::RemoveFirst;
+    }
+    PairOutcome::KeepBoth
+}
+
+/// Two windows that cross on their overlap (neither dominates it): each
+/// loses the part beyond their tie point where the other is shorter, as in
+/// MMP's interval trimming (Surazhsky et al. 2005, Section 3.3), but only
+/// where the lost part ends the window (trimming never splits one) and only
+/// after checking that the other window beats it there by the margin. A
+/// sliver of width `TIE_GAP` around the tie point stays in both.
+fn trim_at_tie(w0: &mut EndedWindow, w1: &mut EndedWindow, ends: OverlapEnds, tol: &Tolerance) {
+    let [a0, a1, b0, b1] = ends;
+    // They cross once only if the shorter one changes between the ends,
+    // each end decided by more than the margin.
+    let left_is_0 = tol.beats(a0, a1) && tol.beats(b1, b0);
+    let left_is_1 = tol.beats(a1, a0) && tol.beats(b0, b1);
+    if !left_is_0 && !left_is_1 {
+        return;
+    }
+    let c0 = w0.window.b0.max(w1.window.b0);
+    let c1 = w0.window.b1.min(w1.window.b1);
+    let Some(x) = single_tie_point(&w0.window, &w1.window, c0, c1) else {
+        return;
+    };
+    let gap = TIE_GAP * (c1 - c0);
+    let (winner_left, winner_right) = if left_is_0 { (w0, w1) } else { (w1, w0) };
+    // The right winner loses [c0, x): trim its start if it starts at c0.
+    let cut = x - gap;
+    if winner_right.window.b0 == c0
+        && cut > c0
+        && beats_from(&winner_left.window, &winner_right.window, c0, cut, tol)
+    {
+        winner_right.set_start(cut);
+    }
+    // The left winner loses (x, c1]: trim its end if it ends at c1.
+    let cut = x + gap;
+    if winner_left.window.b1 == c1
+        && cut < c1
+        && beats_from(&winner_right.window, &winner_left.window, c1, cut, tol)
+    {
+        winner_left.set_end(cut);
+    }
+}
+
+/// Part of the overlap (relative to its width) left to both windows around
+/// their tie point.
+const TIE_GAP: f64 = 1e-9;
+
+/// The one point of `(c0, c1)` where two windows give equal distances, or
+/// `None` if there are zero or two there (then nothing is trimmed).
+///
+/// With `s = σ1 − σ0`, `|p x| − |q x| = s` squared twice gives the
+/// quadratic `(a² − 4s²) x² + (2ab + 8s² q.x) x + b² − 4s² |q|² = 0`, where
+/// `a x + b = |p x|² − |q x|² − s²`, `a = 2(q.x − p.x)`,
+/// `b = |p|² − |q|² − s²`; a root is real only if `a x + b` has the sign of
+/// `s` (Surazhsky et al. 2005, Section 3.3).
+fn single_tie_point(w0: &Window, w1: &Window, c0: f64, c1: f64) -> Option<f64> {
+    let (p, q) = (w0.p, w1.p);
+    let s = w1.sigma - w0.sigma;
+    let a = 2.0 * (q.x - p.x);
+    let b = p.length_squared() - q.length_squared() - s * s;
+    let qa = a * a - 4.0 * s * s;
+    let qb = 2.0 * a * b + 8.0 * s * s * q.x;
+    let qc = b * b - 4.0 * s * s * q.length_squared();
+    let mut roots = [f64::NAN; 2];
+    if qa == 0.0 {
+        if qb != 0.0 {
+            roots[0] = -qc / qb;
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if !(disc >= 0.0) {
+            return None;
+        }
+        // Numerically stable pair of roots.
+        let r = -0.5 * (qb + qb.signum() * disc.sqrt());
+        roots[0] = r / qa;
+        if r != 0.0 {
+            roots[1] = qc / r;
+        }
+    }
+    let mut found = None;
+    for x in roots {
+        let genuine = x > c0 && x < c1 && (a * x + b) * s >= 0.0;
+        if genuine {
+            if found.is_some_and(|f| f != x) {
+                return None;
+            }
+            found = Some(x);
+        }
+    }
+    found
+}
+
+/// Whether `winner`, known to be shorter than `loser` by the margin at
+/// `known`, is so on the whole segment from `known` to `cut`: the other end
+/// and the interior extremum decide, as in [`overlap_dominance`].
+fn beats_from(winner: &Window, loser: &Window, known: f64, cut: f64, tol: &Tolerance) -> bool {
+    let wins = |x: f64| tol.beats(winner.distance_at(x), loser.distance_at(x));
+    if !wins(cut) {
+        return false;
+    }
+    let (lo, hi) = if known < cut {
+        (known, cut)
+    } else {
+        (cut, known)
+    };
+    let (p, q) = (winner.p, loser.p);
+    if p.y != q.y {
+        let xs = p.x + (q.x - p.x) * (-p.y) / (q.y - p.y);
+        if xs > lo && xs < hi {
+            return wins(xs);
+        }
+    }
+    true
+}
+
+#[inline]
+fn trim_loser(winner: &Window, loser: &mut EndedWindow, remove: PairOutcome) -> PairOutcome {
+    let left_out = loser.window.b0 < winner.b0;
+    let right_out = loser.window.b1 > winner.b1;
     match (left_out, right_out) {
         (false, false) => remove,
         (true, false) => {
-            loser.b1 = winner.b0;
+            loser.set_end(winner.b0);
             PairOutcome::KeepBoth
         }
         (false, true) => {
-            loser.b0 = winner.b1;
+            loser.set_start(winner.b1);
             PairOutcome::KeepBoth
         }
         (true, true) => PairOutcome::KeepBoth,
@@ -321,9 +611,17 @@ mod tests {
     fn adjacent_pruning_trims_removes_or_keeps() {
         let t = tol();
         let mut a = win(0.0, 1.0, (0.5, -1.0), 0.0);
-        let mut b = win(0.5, 1.5, (1.0, -1.0), 1.0);
+        let mut b = win(0.5, 1.5, (1.0, -1.0), 0.3);
         assert_eq!(prune_adjacent(&mut a, &mut b, &t), PairOutcome::KeepBoth);
         assert_eq!((b.b0, b.b1), (1.0, 1.5));
+        // With σ = 1 the trimmed rest of b is beaten by walking along the
+        // edge from a's end (Case 3): removed.
+        let mut a = win(0.0, 1.0, (0.5, -1.0), 0.0);
+        let mut b = win(0.5, 1.5, (1.0, -1.0), 1.0);
+        assert_eq!(
+            prune_adjacent(&mut a, &mut b, &t),
+            PairOutcome::RemoveSecond
+        );
         let mut a = win(0.0, 1.0, (0.5, -1.0), 0.0);
         let mut b = win(0.2, 0.8, (1.0, -1.0), 1.0);
         assert_eq!(
@@ -338,5 +636,75 @@ mod tests {
         let mut a = win(0.0, 1.0, (0.5, -1.0), 3.0);
         let mut b = win(0.0, 1.0, (0.5, -1.0), 0.0);
         assert_eq!(prune_adjacent(&mut a, &mut b, &t), PairOutcome::RemoveFirst);
+    }
+
+    #[test]
+    fn crossed_rays_side_by_side_cases_3_and_6() {
+        let t = tol();
+        // Left window close to its source, right one far: walking along
+        // the edge from the left window's end beats the right one.
+        let left = EndedWindow::new(win(0.0, 1.0, (0.5, -0.5), 0.0));
+        let right = EndedWindow::new(win(1.0, 2.0, (1.5, -0.5), 3.0));
+        assert_eq!(disjoint_pair(&left, &right, &t), PairOutcome::RemoveSecond);
+        // And the mirror image.
+        let left = EndedWindow::new(win(0.0, 1.0, (0.5, -0.5), 3.0));
+        let right = EndedWindow::new(win(1.0, 2.0, (1.5, -0.5), 0.0));
+        assert_eq!(disjoint_pair(&left, &right, &t), PairOutcome::RemoveFirst);
+        // Comparable windows stay.
+        let right = EndedWindow::new(win(1.0, 2.0, (1.5, -0.5), 2.5));
+        assert_eq!(disjoint_pair(&left, &right, &t), PairOutcome::KeepBoth);
+    }
+
+    #[test]
+    fn crossing_windows_are_trimmed_at_their_tie_point() {
+        let t = tol();
+        // Equal σ, sources under 0.5 and 1.5: they tie at x = 1.
+        let mut a = EndedWindow::new(win(0.0, 1.5, (0.5, -1.0), 0.0));
+        let mut b = EndedWindow::new(win(0.5, 2.0, (1.5, -1.0), 0.0));
+        assert_eq!(
+            prune_adjacent_ended(&mut a, &mut b, &t),
+            PairOutcome::KeepBoth
+        );
+        assert!((a.window.b1 - 1.0).abs() < 1e-8 && a.window.b1 > 1.0);
+        assert!((b.window.b0 - 1.0).abs() < 1e-8 && b.window.b0 < 1.0);
+        // The caches follow the trims.
+        assert_eq!(a.d1, a.window.distance_at(a.window.b1));
+        assert_eq!(b.d0, b.window.distance_at(b.window.b0));
+        // A tie point with unequal σ solves the quadratic.
+        let w0 = win(0.0, 2.0, (0.0, -1.0), 0.0);
+        let w1 = win(0.0, 2.0, (2.0, -1.0), 0.5);
+        let x = single_tie_point(&w0, &w1, 0.0, 2.0).unwrap();
+        assert!((w0.distance_at(x) - w1.distance_at(x)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_loser_sticking_out_on_both_sides_is_split() {
+        let t = tol();
+        // b, close to its source, is shorter on all of a's middle.
+        let mut a = EndedWindow::new(win(0.0, 3.0, (1.5, -1.0), 2.0));
+        let mut b = EndedWindow::new(win(1.0, 2.0, (1.5, -0.5), 0.0));
+        match prune_adjacent_splitting(&mut a, &mut b, &t) {
+            SplitOutcome::FirstSplit(right) => {
+                assert_eq!((a.window.b0, a.window.b1), (0.0, 1.0));
+                assert_eq!((right.window.b0, right.window.b1), (2.0, 3.0));
+                assert_eq!(right.d0, right.window.distance_at(2.0));
+            }
+            other => panic!("expected a split, got {other:?}"),
+        }
+        let mut a = EndedWindow::new(win(1.0, 2.0, (1.5, -0.5), 0.0));
+        let mut b = EndedWindow::new(win(0.0, 3.0, (1.5, -1.0), 2.0));
+        assert!(matches!(
+            prune_adjacent_splitting(&mut a, &mut b, &t),
+            SplitOutcome::SecondSplit(_)
+        ));
+        assert_eq!((b.window.b0, b.window.b1), (0.0, 1.0));
+        // Without splitting the loser is kept whole.
+        let mut a = EndedWindow::new(win(0.0, 3.0, (1.5, -1.0), 2.0));
+        let mut b = EndedWindow::new(win(1.0, 2.0, (1.5, -0.5), 0.0));
+        assert_eq!(
+            prune_adjacent_ended(&mut a, &mut b, &t),
+            PairOutcome::KeepBoth
+        );
+        assert_eq!((a.window.b0, a.window.b1), (0.0, 3.0));
     }
 }

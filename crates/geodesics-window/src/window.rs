@@ -57,6 +57,56 @@ impl Window {
     }
 }
 
+/// A window with the distances at its two ends kept beside it:
+/// `d0 = σ + |p b0|` and `d1 = σ + |p b1|`.
+///
+/// Every pruning predicate compares end distances, each a square root;
+/// solvers that keep windows in lists store this form so each end is
+/// computed once (the paper's window carries `d0` and `d1` too). Change
+/// the interval only through [`EndedWindow::set_start`] and
+/// [`EndedWindow::set_end`], which keep the cache exact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EndedWindow {
+    /// The window.
+    pub window: Window,
+    /// `window.distance_at(window.b0)`.
+    pub d0: f64,
+    /// `window.distance_at(window.b1)`.
+    pub d1: f64,
+}
+
+impl EndedWindow {
+    /// Caches the end distances of `window`.
+    #[inline]
+    pub fn new(window: Window) -> EndedWindow {
+        EndedWindow {
+            d0: window.distance_at(window.b0),
+            d1: window.distance_at(window.b1),
+            window,
+        }
+    }
+
+    /// Moves the start of the interval to `b0`.
+    #[inline]
+    pub fn set_start(&mut self, b0: f64) {
+        self.window.b0 = b0;
+        self.d0 = self.window.distance_at(b0);
+    }
+
+    /// Moves the end of the interval to `b1`.
+    #[inline]
+    pub fn set_end(&mut self, b1: f64) {
+        self.window.b1 = b1;
+        self.d1 = self.window.distance_at(b1);
+    }
+}
+
+impl From<Window> for EndedWindow {
+    fn from(window: Window) -> EndedWindow {
+        EndedWindow::new(window)
+    }
+}
+
 /// The triangle `ABC` a window list crosses, in the frame of `AB`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
