@@ -11,7 +11,11 @@
 //! assert_eq!(parsed, vec![0.5, f64::INFINITY, 1e-3]);
 //! ```
 
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 use std::path::{Path, PathBuf};
+
+use geodesics_mesh::Mesh;
 
 /// The folder of real meshes, or `None` (after printing a loud SKIPPED line
 /// naming `what`) when it is absent.
@@ -197,3 +201,32 @@ pub const REAL_MESHES: &[ExpectedMesh] = &[
         [0; 4],
     ),
 ];
+
+/// Shortest distances from vertex `source` along mesh edges only (Dijkstra
+/// on the edge graph): an upper bound for every geodesic distance, and what
+/// AVTP tends to with a tiny λ. Per mesh vertex (pinch copies separate).
+pub fn edge_graph_distances(mesh: &Mesh, source: u32) -> Vec<f64> {
+    let n = mesh.vertex_count();
+    let mut d = vec![f64::INFINITY; n];
+    let mut heap = BinaryHeap::new();
+    d[source as usize] = 0.0;
+    heap.push(Reverse((0u64, source)));
+    while let Some(Reverse((k, v))) = heap.pop() {
+        if k != d[v as usize].to_bits() {
+            continue;
+        }
+        for h in mesh.outgoing(v) {
+            for (u, l) in [
+                (mesh.head(h), mesh.length(h)),
+                (mesh.tail(Mesh::prev(h)), mesh.length(Mesh::prev(h))),
+            ] {
+                let nd = d[v as usize] + l;
+                if nd < d[u as usize] {
+                    d[u as usize] = nd;
+                    heap.push(Reverse((nd.to_bits(), u)));
+                }
+            }
+        }
+    }
+    d
+}

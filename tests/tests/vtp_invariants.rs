@@ -4,11 +4,9 @@
 //! planar domains (Euclidean, and around a reflex corner), every kind of
 //! source, several components, the distance limit, and input errors.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{bumpy_sphere, flat_grid, jittered_flat_grid, jittered_icosphere};
+use geodesics_tests::edge_graph_distances;
 use geodesics_vtp::{VtpError, VtpOptions, solve};
 use geodesics_window::{NO_SOURCE, Source};
 use glam::DVec3;
@@ -23,32 +21,6 @@ fn field(mesh: &Mesh, sources: &[Source]) -> Vec<f64> {
         .unwrap()
         .0
         .distance
-}
-
-fn dijkstra(mesh: &Mesh, s: u32) -> Vec<f64> {
-    let n = mesh.vertex_count();
-    let mut d = vec![f64::INFINITY; n];
-    let mut heap = BinaryHeap::new();
-    d[s as usize] = 0.0;
-    heap.push(Reverse((0u64, s)));
-    while let Some(Reverse((k, v))) = heap.pop() {
-        if k != d[v as usize].to_bits() {
-            continue;
-        }
-        for h in mesh.outgoing(v) {
-            for (u, l) in [
-                (mesh.head(h), mesh.length(h)),
-                (mesh.tail(Mesh::prev(h)), mesh.length(Mesh::prev(h))),
-            ] {
-                let nd = d[v as usize] + l;
-                if nd < d[u as usize] {
-                    d[u as usize] = nd;
-                    heap.push(Reverse((nd.to_bits(), u)));
-                }
-            }
-        }
-    }
-    d
 }
 
 fn check_invariants(mesh: &Mesh, a: u32, b: u32, c: u32) {
@@ -69,7 +41,7 @@ fn check_invariants(mesh: &Mesh, a: u32, b: u32, c: u32) {
     );
     // Triangle inequality.
     assert!(da[c as usize] <= da[b as usize] + db[c as usize] + tol);
-    let g = dijkstra(mesh, a);
+    let g = edge_graph_distances(mesh, a);
     let pa = mesh.position(a);
     for v in 0..mesh.input_vertex_count() {
         let d = da[v];

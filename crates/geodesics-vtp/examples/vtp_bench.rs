@@ -1,9 +1,11 @@
 //! Times one VTP solve on a mesh file: `vtp_bench MESH [SOURCE_VERTEX] [REPEATS]`.
 //!
 //! Prints the best wall time over the repeats and the solve's statistics.
+//! With `LAMBDA=L` in the environment it runs AVTP (a window reset every
+//! `L` mean edge lengths) and also prints its error against exact VTP.
 
 use geodesics_mesh::{BuildOptions, Mesh};
-use geodesics_vtp::{VtpOptions, solve};
+use geodesics_vtp::{VtpOptions, WindowReset, solve};
 use geodesics_window::Source;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -18,13 +20,42 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         geodesics_io::read_mesh(path.as_ref())?,
         &BuildOptions { weld },
     )?;
+    let reset = std::env::var("LAMBDA")
+        .ok()
+        .map(|l| l.parse::<f64>().map(WindowReset::every))
+        .transpose()?;
+    let options = VtpOptions {
+        reset,
+        ..VtpOptions::default()
+    };
+    let sources = [Source::Vertex(source)];
     let mut best = f64::INFINITY;
     let mut last = None;
+    let mut field = None;
     for _ in 0..repeats.max(1) {
         let t = std::time::Instant::now();
-        let (_, stats) = solve(&mesh, &[Source::Vertex(source)], &VtpOptions::default())?;
+        let (f, stats) = solve(&mesh, &sources, &options)?;
         best = best.min(t.elapsed().as_secs_f64());
         last = Some(stats);
+        field = Some(f);
+    }
+    if let (Some(_), Some(approx)) = (reset, &field) {
+        let (exact, _) = solve(&mesh, &sources, &VtpOptions::default())?;
+        let (mut sum, mut max, mut n, mut below) = (0.0, 0.0f64, 0usize, 0usize);
+        for (a, e) in approx.distance.iter().zip(&exact.distance) {
+            if e.is_finite() && *e > 0.0 {
+                let r = (a - e) / e;
+                sum += r;
+                max = max.max(r);
+                n += 1;
+                below += usize::from(r < -1e-12);
+            }
+        }
+        println!(
+            "AVTP error vs exact: mean {:.3e}, max {:.3e} relative over {n} vertices ({below} below exact)",
+            sum / n.max(1) as f64,
+            max
+        );
     }
     let s = last.ok_or("no run")?;
     println!(

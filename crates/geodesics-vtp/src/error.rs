@@ -72,4 +72,14 @@ pub enum VtpError {
     /// The maximum distance is NaN or negative.
     #[error("maximum distance {0} must be a non-negative number")]
     MaxDistance(f64),
+    /// The AVTP reset parameters are not usable.
+    #[error(
+        "window reset needs a finite lambda > 0 and a finite lambda_g >= 0 (got lambda {lambda}, lambda_g {lambda_g})"
+    )]
+    Reset {
+        /// λ given.
+        lambda: f64,
+        /// λ_g given.
+        lambda_g: f64,
+    },
 }

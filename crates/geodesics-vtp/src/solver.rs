@@ -75,6 +75,16 @@ struct Solver<'a> {
     lists_processed: u64,
     /// Per vertex: how its distance was last set (only when recording).
     prov: Vec<Provenance>,
+    /// AVTP: the distance at which the next window reset happens.
+    next_reset: Option<f64>,
+    /// AVTP: vertices given a finite distance while outside (the wavefront,
+    /// with stale entries for vertices since popped).
+    front: Vec<u32>,
+    /// AVTP: per vertex, the last reset that made it a pseudo-source.
+    reset_round: Vec<u32>,
+    resets: u32,
+    /// Mean edge length h.
+    mean_edge: f64,
 }
 
 pub(crate) fn solve(
@@ -107,6 +117,14 @@ fn validate(mesh: &Mesh, sources: &[Source], options: &VtpOptions) -> Result<(),
         && !(m >= 0.0)
     {
         return Err(VtpError::MaxDistance(m));
+    }
+    if let Some(r) = options.reset
+        && !(r.lambda > 0.0 && r.lambda.is_finite() && r.lambda_g >= 0.0 && r.lambda_g.is_finite())
+    {
+        return Err(VtpError::Reset {
+            lambda: r.lambda,
+            lambda_g: r.lambda_g,
+        });
     }
     let tol = Tolerance::for_mesh(mesh);
     for (source_index, s) in sources.iter().enumerate() {
@@ -158,6 +176,18 @@ fn validate(mesh: &Mesh, sources: &[Source], options: &VtpOptions) -> Result<(),
         }
     }
     Ok(())
+}
+
+/// The mean length of the mesh's edges (each edge once), h in the papers.
+pub(crate) fn mean_edge_length(mesh: &Mesh) -> f64 {
+    let (mut sum, mut count) = (0.0, 0u64);
+    for h in 0..mesh.half_edge_count() as u32 {
+        if mesh.twin(h).is_none_or(|t| t > h) {
+            sum += mesh.length(h);
+            count += 1;
+        }
+    }
+    if count == 0 { 0.0 } else { sum / count as f64 }
 }
 
 /// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
@@ -214,6 +244,7 @@ impl<'a> Solver<'a> {
                 }
             }
         }
+        let mean_edge = mean_edge_length(mesh);
         // Pinch groups: the fan copies of one input vertex.
         let mut group_of = vec![NONE; nv];
         let mut groups: Vec<Vec<u32>> = Vec::new();
@@ -266,6 +297,15 @@ impl<'a> Solver<'a> {
             } else {
                 Vec::new()
             },
+            next_reset: options.reset.map(|r| r.lambda * mean_edge),
+            front: Vec::new(),
+            reset_round: if options.reset.is_some() {
+                vec![0; nv]
+            } else {
+                Vec::new()
+            },
+            resets: 0,
+            mean_edge,
         }
     }
 
@@ -399,6 +439,9 @@ impl<'a> Solver<'a> {
     #[inline]
     fn set_dist(&mut self, v: u32, d: f64, s: u32) {
         let vi = v as usize;
+        if self.next_reset.is_some() && self.dist[vi] == f64::INFINITY && !self.inside[vi] {
+            self.front.push(v);
+        }
         self.dist[vi] = d;
         self.src[vi] = s;
         // A vertex ahead of the wavefront is (re)queued; an inside one only
@@ -428,6 +471,11 @@ impl<'a> Solver<'a> {
                 && d > m
             {
                 break;
+            }
+            if let Some(next) = self.next_reset
+                && d > next
+            {
+                self.reset_windows(d);
             }
             let first = !self.inside[vi];
             let emit = self.pseudo[vi] && self.should_emit(vi, d);
@@ -461,6 +509,70 @@ impl<'a> Solver<'a> {
                 self.process(h);
             }
         }
+    }
+
+    /// AVTP's window reset (Du et al. 2021, Algorithm 3, lines 6-14): the
+    /// wavefront crossed the next multiple of λh. Every wavefront vertex
+    /// within the guard band λ_g·h beyond it becomes a pseudo-source (it
+    /// emits when popped, like a saddle) and the windows waiting on the
+    /// edges between two such vertices are deleted. `d` is the distance of
+    /// the vertex just popped, which crossed (it is still on the wavefront).
+    fn reset_windows(&mut self, d: f64) {
+        let Some(reset) = self.options.reset else {
+            return;
+        };
+        let mesh = self.mesh;
+        let step = reset.lambda * self.mean_edge;
+        // The wavefront may jump over several steps at once: advance to the
+        // one just below d.
+        let steps = (d / step).floor();
+        let boundary = steps * step;
+        self.next_reset = Some((steps + 1.0) * step);
+        let guard = boundary + reset.lambda_g * self.mean_edge;
+        self.resets += 1;
+        let round = self.resets;
+        let inside = &self.inside;
+        self.front.retain(|&v| !inside[v as usize]);
+        let front = std::mem::take(&mut self.front);
+        for &v in &front {
+            if self.dist[v as usize] <= guard {
+                self.reset_round[v as usize] = round;
+                self.force_pseudo(v);
+            }
+        }
+        for &v in &front {
+            if self.reset_round[v as usize] != round {
+                continue;
+            }
+            for h in mesh.outgoing(v) {
+                let p = Mesh::prev(h);
+                for (e, other) in [(h, mesh.head(h)), (p, mesh.tail(p))] {
+                    if self.reset_round[other as usize] != round {
+                        continue;
+                    }
+                    self.drop_list(e);
+                    if let Some(t) = mesh.twin(e) {
+                        self.drop_list(t);
+                    }
+                }
+            }
+        }
+        self.front = front;
+    }
+
+    /// Deletes the windows waiting on half-edge `h` (AVTP's reset).
+    fn drop_list(&mut self, h: u32) {
+        let hi = h as usize;
+        let idx = self.slot[hi];
+        if idx == NONE {
+            return;
+        }
+        self.slot[hi] = NONE;
+        self.queued[hi] = false;
+        let list = &mut self.pool[idx as usize];
+        self.live -= list.len() as u64;
+        list.clear();
+        self.free.push(idx);
     }
 
     /// Pseudo-source `v`: relax its neighbours along edges and put one

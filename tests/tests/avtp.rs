@@ -1,0 +1,190 @@
+//! AVTP (geodesics-avtp) against exact VTP: the limits the paper states
+//! (exact VTP for a huge λ, between exact and edge-graph Dijkstra for a tiny
+//! one), never below exact at any λ, state kept per solve, and the distance
+//! limit, on real meshes and procedural ones.
+
+use geodesics_avtp::{AvtpOptions, solve};
+use geodesics_mesh::{BuildOptions, Mesh};
+use geodesics_shapes::{bumpy_sphere, jittered_icosphere};
+use geodesics_tests::{data_dir, edge_graph_distances};
+use geodesics_window::Source;
+
+fn exact(mesh: &Mesh, sources: &[Source]) -> Vec<f64> {
+    geodesics_vtp::solve(mesh, sources, &Default::default())
+        .unwrap()
+        .0
+        .distance
+}
+
+fn avtp(mesh: &Mesh, sources: &[Source], lambda: f64) -> Vec<f64> {
+    solve(mesh, sources, &AvtpOptions::with_lambda(lambda))
+        .unwrap()
+        .0
+        .distance
+}
+
+fn mean_edge(mesh: &Mesh) -> f64 {
+    let n = mesh.half_edge_count() as u32;
+    (0..n).map(|h| mesh.length(h)).sum::<f64>() / f64::from(n)
+}
+
+fn min_edge(mesh: &Mesh) -> f64 {
+    (0..mesh.half_edge_count() as u32)
+        .map(|h| mesh.length(h))
+        .filter(|l| *l > 0.0)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Meshes every test runs on: procedural ones always, real ones when the
+/// data folder is there.
+fn meshes() -> Vec<(String, Mesh)> {
+    let mut out = vec![
+        (
+            "bumpy sphere".to_string(),
+            Mesh::build(bumpy_sphere(4, 1.0, 40, 0.2, 3), &BuildOptions::default()).unwrap(),
+        ),
+        (
+            "jittered icosphere".to_string(),
+            Mesh::build(jittered_icosphere(4, 1.0, 0.1, 5), &BuildOptions::default()).unwrap(),
+        ),
+    ];
+    if let Some(dir) = data_dir("AVTP on real meshes") {
+        for name in ["hand.off", "fertility.off", "bunny.off", "fandisk.obj"] {
+            let soup = geodesics_io::read_mesh(&dir.join(name)).unwrap();
+            out.push((
+                name.to_string(),
+                Mesh::build(soup, &BuildOptions::default()).unwrap(),
+            ));
+        }
+    }
+    out
+}
+
+fn scale(d: &[f64]) -> f64 {
+    d.iter()
+        .copied()
+        .filter(|x| x.is_finite())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn huge_lambda_is_exact_vtp_bit_for_bit() {
+    for (name, mesh) in meshes() {
+        let sources = [Source::Vertex(0)];
+        let e = exact(&mesh, &sources);
+        // λh beyond the largest distance: no reset can happen.
+        let lambda = 2.0 * scale(&e) / mean_edge(&mesh) + 1.0;
+        let a = avtp(&mesh, &sources, lambda);
+        assert!(
+            a.iter().zip(&e).all(|(x, y)| x.to_bits() == y.to_bits()),
+            "{name}: AVTP with λ = {lambda} differs from VTP"
+        );
+    }
+}
+
+#[test]
+fn tiny_lambda_lies_between_exact_and_edge_graph_dijkstra() {
+    for (name, mesh) in meshes() {
+        let e = exact(&mesh, &[Source::Vertex(0)]);
+        let g = edge_graph_distances(&mesh, 0);
+        let lambda = 0.5 * min_edge(&mesh) / mean_edge(&mesh);
+        let a = avtp(&mesh, &[Source::Vertex(0)], lambda);
+        let tol = 1e-12 * scale(&e);
+        let mut strictly_above_exact = 0;
+        for v in 0..e.len() {
+            assert!(
+                a[v] >= e[v] - tol,
+                "{name} vertex {v}: {} < exact {}",
+                a[v],
+                e[v]
+            );
+            assert!(
+                a[v] <= g[v] + tol,
+                "{name} vertex {v}: {} > edge graph {}",
+                a[v],
+                g[v]
+            );
+            strictly_above_exact += usize::from(a[v] > e[v] + tol);
+        }
+        // It really is approximate: many vertices lose accuracy.
+        assert!(
+            strictly_above_exact > e.len() / 10,
+            "{name}: only {strictly_above_exact} vertices above exact"
+        );
+        eprintln!(
+            "{name}: λ = {lambda:.3}, {strictly_above_exact} of {} vertices above exact",
+            e.len()
+        );
+    }
+}
+
+#[test]
+fn never_below_exact_and_more_accurate_as_lambda_grows() {
+    for (name, mesh) in meshes() {
+        let sources = [
+            Source::Vertex(0),
+            Source::Vertex(mesh.vertex_count() as u32 / 2),
+        ];
+        let e = exact(&mesh, &sources);
+        let tol = 1e-12 * scale(&e);
+        let mut means = Vec::new();
+        for lambda in [2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0] {
+            let a = avtp(&mesh, &sources, lambda);
+            let (mut sum, mut n) = (0.0, 0);
+            for v in 0..e.len() {
+                assert!(
+                    a[v] >= e[v] - tol,
+                    "{name} λ = {lambda} vertex {v}: {} < exact {}",
+                    a[v],
+                    e[v]
+                );
+                if e[v].is_finite() && e[v] > 0.0 {
+                    sum += (a[v] - e[v]) / e[v];
+                    n += 1;
+                }
+            }
+            means.push(sum / f64::from(n));
+        }
+        let shown: Vec<String> = means.iter().map(|m| format!("{m:.2e}")).collect();
+        eprintln!("{name}: mean relative error for λ = 2..128: {shown:?}");
+        assert!(
+            means.last().unwrap() <= means.first().unwrap(),
+            "{name}: λ = 128 is less accurate than λ = 2: {means:?}"
+        );
+    }
+}
+
+#[test]
+fn resets_belong_to_one_solve() {
+    // A solve from another source first must not change the next one (the
+    // authors' code marks reset vertices on the mesh itself).
+    let mesh = Mesh::build(bumpy_sphere(4, 1.0, 40, 0.2, 9), &BuildOptions::default()).unwrap();
+    let fresh = avtp(&mesh, &[Source::Vertex(7)], 4.0);
+    let _ = avtp(&mesh, &[Source::Vertex(100)], 4.0);
+    let again = avtp(&mesh, &[Source::Vertex(7)], 4.0);
+    assert!(
+        fresh
+            .iter()
+            .zip(&again)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
+    );
+}
+
+#[test]
+fn distance_limit_holds() {
+    let mesh = Mesh::build(bumpy_sphere(4, 1.0, 40, 0.2, 9), &BuildOptions::default()).unwrap();
+    let options = AvtpOptions {
+        max_distance: Some(1.0),
+        ..AvtpOptions::with_lambda(4.0)
+    };
+    let (limited, _) = solve(&mesh, &[Source::Vertex(0)], &options).unwrap();
+    let full = avtp(&mesh, &[Source::Vertex(0)], 4.0);
+    for (l, f) in limited.distance.iter().zip(&full) {
+        if *f <= 1.0 {
+            assert!(l.is_finite());
+        }
+        if l.is_finite() {
+            assert!(*l <= 1.0);
+        }
+    }
+}
