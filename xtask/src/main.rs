@@ -7,6 +7,8 @@
 //!   with gdist (an independent MMP) timed in the same run when its
 //!   environment exists, and the authors' published figures beside ours.
 //!   `--large` adds a second Loop step (1.1 M faces).
+//! - `cargo xtask avtp [--runs N] [--large]`: AVTP's accuracy/speed table,
+//!   λ from 2 to 128 against exact VTP in the same run, on the same meshes.
 //! - `cargo xtask load [--runs N]`: read and topology-build times of every
 //!   real mesh.
 //!
@@ -18,20 +20,25 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+mod avtp;
+
 use anyhow::{Context, Result, bail};
 use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(command) = args.first() else {
-        eprintln!("usage: cargo xtask bench [--runs N] [--large] | load [--runs N]");
+        eprintln!(
+            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | load [--runs N]"
+        );
         return Ok(());
     };
     let runs = flag_value(&args, "--runs")?.unwrap_or(3);
     match command.as_str() {
         "bench" => bench(runs, args.iter().any(|a| a == "--large")),
+        "avtp" => avtp::table(runs, args.iter().any(|a| a == "--large")),
         "load" => load(runs),
-        other => bail!("unknown xtask command `{other}` (try: bench, load)"),
+        other => bail!("unknown xtask command `{other}` (try: bench, avtp, load)"),
     }
 }
 

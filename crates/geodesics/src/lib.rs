@@ -26,6 +26,7 @@
 use std::fmt;
 use std::str::FromStr;
 
+pub use geodesics_avtp::{AvtpError, AvtpOptions};
 pub use geodesics_io as io;
 pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
 pub use geodesics_vtp::{Pruning, VtpError, VtpOptions};
@@ -40,6 +41,17 @@ pub enum Error {
     /// The VTP solver refused its input.
     #[error(transparent)]
     Vtp(#[from] VtpError),
+    /// The AVTP solver refused its input.
+    #[error(transparent)]
+    Avtp(#[from] AvtpError),
+    /// A setting was given to an algorithm that does not have it.
+    #[error("algorithm `{algorithm}` takes no {setting}")]
+    NoSuchSetting {
+        /// The algorithm's name.
+        algorithm: &'static str,
+        /// The setting given.
+        setting: &'static str,
+    },
     /// No algorithm has this name.
     #[error("unknown algorithm `{name}` (known: {})", Algorithm::NAMES.join(", "))]
     UnknownAlgorithm {
@@ -53,11 +65,14 @@ pub enum Error {
 pub enum Algorithm {
     /// Vertex-oriented triangle propagation (Qin et al. 2016), exact.
     Vtp(VtpOptions),
+    /// Approximate VTP (Du et al. 2021): a window reset every λ mean edge
+    /// lengths; never below exact.
+    Avtp(AvtpOptions),
 }
 
 impl Algorithm {
     /// Names accepted by [`FromStr`] (and the CLI's `--algorithm`).
-    pub const NAMES: &'static [&'static str] = &["vtp", "vtp-no-rule1", "vtp-no-rules23"];
+    pub const NAMES: &'static [&'static str] = &["vtp", "vtp-no-rule1", "vtp-no-rules23", "avtp"];
 
     /// The paper's name of this algorithm (column headers of the tables).
     pub fn name(&self) -> &'static str {
@@ -68,6 +83,31 @@ impl Algorithm {
                 (true, false) => "vtp-no-rules23",
                 (false, false) => "vtp-unpruned",
             },
+            Algorithm::Avtp(_) => "avtp",
+        }
+    }
+
+    /// Whether the algorithm computes exact distances.
+    pub fn is_exact(&self) -> bool {
+        !matches!(self, Algorithm::Avtp(_))
+    }
+
+    /// Sets the accuracy knob of an approximate algorithm: a window reset
+    /// every `lambda` mean edge lengths, with guard band `lambda_g` (the
+    /// authors' 8 when `None`). An error for exact algorithms.
+    pub fn with_lambda(mut self, lambda: f64, lambda_g: Option<f64>) -> Result<Self, Error> {
+        match &mut self {
+            Algorithm::Avtp(o) => {
+                o.lambda = lambda;
+                if let Some(g) = lambda_g {
+                    o.lambda_g = g;
+                }
+                Ok(self)
+            }
+            other => Err(Error::NoSuchSetting {
+                algorithm: other.name(),
+                setting: "lambda (it is exact)",
+            }),
         }
     }
 
@@ -75,6 +115,7 @@ impl Algorithm {
     pub fn with_max_distance(mut self, max_distance: Option<f64>) -> Self {
         match &mut self {
             Algorithm::Vtp(o) => o.max_distance = max_distance,
+            Algorithm::Avtp(o) => o.max_distance = max_distance,
         }
         self
     }
@@ -110,6 +151,7 @@ impl FromStr for Algorithm {
             "vtp" => Ok(vtp(true, true)),
             "vtp-no-rule1" => Ok(vtp(false, true)),
             "vtp-no-rules23" => Ok(vtp(true, false)),
+            "avtp" => Ok(Algorithm::Avtp(AvtpOptions::default())),
             _ => Err(Error::UnknownAlgorithm {
                 name: name.to_string(),
             }),
@@ -126,6 +168,7 @@ pub fn compute(
 ) -> Result<(DistanceField, Stats), Error> {
     match algorithm {
         Algorithm::Vtp(options) => Ok(geodesics_vtp::solve(mesh, sources, options)?),
+        Algorithm::Avtp(options) => Ok(geodesics_avtp::solve(mesh, sources, options)?),
     }
 }
 
@@ -142,7 +185,22 @@ mod tests {
         let err = "dijkstra".parse::<Algorithm>().unwrap_err();
         assert_eq!(
             err.to_string(),
-            "unknown algorithm `dijkstra` (known: vtp, vtp-no-rule1, vtp-no-rules23)"
+            "unknown algorithm `dijkstra` (known: vtp, vtp-no-rule1, vtp-no-rules23, avtp)"
+        );
+    }
+
+    #[test]
+    fn lambda_only_for_approximate_algorithms() {
+        let a = Algorithm::from_str("avtp")
+            .unwrap()
+            .with_lambda(32.0, None)
+            .unwrap();
+        assert_eq!(a, Algorithm::Avtp(AvtpOptions::with_lambda(32.0)));
+        assert!(!a.is_exact());
+        let err = Algorithm::default().with_lambda(8.0, None).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "algorithm `vtp` takes no lambda (it is exact)"
         );
     }
 }
