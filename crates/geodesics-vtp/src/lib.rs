@@ -64,27 +64,88 @@ pub use geodesics_window::{DistanceField, Source, Stats};
 
 use geodesics_mesh::Mesh;
 
-/// Which pruning rules run (the ablations of Fig 12 of the paper). Every
-/// combination is exact; the default, all on, is the paper's VTP.
+/// Which pruning rules run: one axis of the paper's variants (Table 3 and
+/// the ablations of Fig 12). Every combination is exact; the default is the
+/// paper's VTP.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pruning {
-    /// Rule 1, one angle two sides (Section 4.1).
-    pub rule1: bool,
-    /// Rules 2 and 3: pairwise checks between adjacent windows of a list.
-    pub pairwise: bool,
-    /// Checking with vertices (Case 12, the ICH filter, with its edge-end
-    /// variants).
+    /// Rule 1 (Section 4.1) or Chen and Han's narrower form.
+    pub rule1: Rule1,
+    /// Which pairs of windows are checked against each other when windows
+    /// are merged into a list.
+    pub pairs: PairRule,
+    /// Checking with vertices (Cases 10–12, the ICH filter, with its
+    /// edge-end variants), on each child and again before a list propagates.
     pub vertex_check: bool,
+}
+
+impl Pruning {
+    /// The paper's VTP: Rule 1, Rules 2 and 3, checking with vertices.
+    pub const VTP: Pruning = Pruning {
+        rule1: Rule1::OneAngleTwoSides,
+        pairs: PairRule::Adjacent,
+        vertex_check: true,
+    };
 }
 
 impl Default for Pruning {
     fn default() -> Self {
-        Pruning {
-            rule1: true,
-            pairwise: true,
-            vertex_check: true,
-        }
+        Pruning::VTP
     }
+}
+
+/// How a list's best path to the apex prunes the other windows' rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rule1 {
+    /// No pruning against the apex.
+    Off,
+    /// Chen and Han's "one angle one split" (Case 9 only): among the
+    /// windows whose rays split at the apex, only the best splits.
+    OneAngleOneSplit,
+    /// VTP's Rule 1, "one angle two sides" (Cases 7–9): every window's
+    /// rays crossing the best path to the apex are pruned.
+    OneAngleTwoSides,
+}
+
+/// Which windows of a list are checked against each other on a merge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairRule {
+    /// No pairwise checks (the ablation "without Rules 2 and 3").
+    Off,
+    /// Rules 2 and 3 (VTP): each window against its neighbour in the list
+    /// (Cases 1–6), trimming at tie points and splitting a loser that sticks
+    /// out on both sides.
+    Adjacent,
+    /// VTP-Exhaustive: each incoming window against every window of the
+    /// list (Cases 1–6 and tie-point trimming, no splitting).
+    Exhaustive,
+    /// VTP-Trimming: MMP's interval trimming in place of Rules 2 and 3;
+    /// each incoming window against every window of the list, losers cut
+    /// at tie points or split around the winner.
+    Trimming,
+}
+
+/// How the wavefront advances: the other axis of the variants.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Schedule {
+    /// Vertex-sorted (VTP, Section 5.2): pop the nearest wavefront vertex,
+    /// add its one-ring to the traversed area.
+    #[default]
+    VertexSorted,
+    /// Face-sorted (FTP, Section 5.1): pop the triangle whose entering list
+    /// reaches its apex soonest and add that triangle alone.
+    FaceSorted,
+}
+
+/// How windows arriving at a list that already holds windows are merged.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Merge {
+    /// Order-free (VTP, FTP): appended behind the list.
+    #[default]
+    OrderFree,
+    /// Order-preserving (OPVTP, OPFTP): each window inserted where its
+    /// start belongs (binary search), then checked with both neighbours.
+    OrderPreserving,
 }
 
 /// Options of [`solve`]. `Default` is the paper's final algorithm with no
@@ -96,6 +157,10 @@ pub struct VtpOptions {
     pub max_distance: Option<f64>,
     /// The pruning rules to apply.
     pub pruning: Pruning,
+    /// How the wavefront advances.
+    pub schedule: Schedule,
+    /// How windows are merged into non-empty lists.
+    pub merge: Merge,
     /// Record, per vertex, how its distance was obtained (see
     /// [`solve_with_provenance`]).
     pub record_provenance: bool,
@@ -137,6 +202,115 @@ impl WindowReset {
             lambda,
             lambda_g: Self::DEFAULT_LAMBDA_G,
         }
+    }
+}
+
+/// The paper's named variants (Table 3 and Fig 12 of Qin et al. 2016) as
+/// settings of the two axes, schedule × pruning, plus the merge order.
+pub const VARIANTS: &[(&str, Schedule, Merge, Pruning)] = &[
+    (
+        "vtp",
+        Schedule::VertexSorted,
+        Merge::OrderFree,
+        Pruning::VTP,
+    ),
+    ("ftp", Schedule::FaceSorted, Merge::OrderFree, Pruning::VTP),
+    (
+        "opvtp",
+        Schedule::VertexSorted,
+        Merge::OrderPreserving,
+        Pruning::VTP,
+    ),
+    (
+        "opftp",
+        Schedule::FaceSorted,
+        Merge::OrderPreserving,
+        Pruning::VTP,
+    ),
+    // MMP's pruning is trimming against every window ever put on an edge;
+    // VTP frees a list once it has propagated, so the vertex distances
+    // stand in for the windows MMP would still hold (without any check,
+    // windows circle the traversed area for a very long time).
+    (
+        "vtp-mmp",
+        Schedule::VertexSorted,
+        Merge::OrderFree,
+        Pruning {
+            rule1: Rule1::Off,
+            pairs: PairRule::Trimming,
+            vertex_check: true,
+        },
+    ),
+    (
+        "vtp-ch",
+        Schedule::VertexSorted,
+        Merge::OrderFree,
+        Pruning {
+            rule1: Rule1::OneAngleOneSplit,
+            pairs: PairRule::Off,
+            vertex_check: true,
+        },
+    ),
+    (
+        "vtp-exhaustive",
+        Schedule::VertexSorted,
+        Merge::OrderFree,
+        Pruning {
+            pairs: PairRule::Exhaustive,
+            ..Pruning::VTP
+        },
+    ),
+    (
+        "vtp-trimming",
+        Schedule::VertexSorted,
+        Merge::OrderFree,
+        Pruning {
+            pairs: PairRule::Trimming,
+            ..Pruning::VTP
+        },
+    ),
+    (
+        "vtp-no-rule1",
+        Schedule::VertexSorted,
+        Merge::OrderFree,
+        Pruning {
+            rule1: Rule1::Off,
+            ..Pruning::VTP
+        },
+    ),
+    (
+        "vtp-no-rules23",
+        Schedule::VertexSorted,
+        Merge::OrderFree,
+        Pruning {
+            pairs: PairRule::Off,
+            ..Pruning::VTP
+        },
+    ),
+];
+
+impl VtpOptions {
+    /// The options of a named variant of [`VARIANTS`] (no distance limit,
+    /// no reset), or `None` for an unknown name.
+    pub fn variant(name: &str) -> Option<VtpOptions> {
+        VARIANTS
+            .iter()
+            .find(|v| v.0 == name)
+            .map(|&(_, schedule, merge, pruning)| VtpOptions {
+                schedule,
+                merge,
+                pruning,
+                ..VtpOptions::default()
+            })
+    }
+
+    /// The name of the variant these options run, if it is one of
+    /// [`VARIANTS`].
+    pub fn variant_name(&self) -> Option<&'static str> {
+        VARIANTS
+            .iter()
+            .find(|v| (v.1, v.2, v.3) == (self.schedule, self.merge, self.pruning))
+            .map(|v| v.0)
     }
 }
 

@@ -6,14 +6,15 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::{
-    PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_splitting, vertex_check_ended,
+    PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting,
+    vertex_check_ended,
 };
 use geodesics_window::{
     DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window,
 };
 use glam::{DVec2, DVec3};
 
-use crate::{Provenance, VtpError, VtpOptions};
+use crate::{Merge, PairRule, Provenance, Rule1, Schedule, VtpError, VtpOptions};
 
 const NONE: u32 = u32::MAX;
 
@@ -85,6 +86,9 @@ struct Solver<'a> {
     resets: u32,
     /// Mean edge length h.
     mean_edge: f64,
+    /// FTP: faces waiting to be traversed, by their best apex distance.
+    face_heap: BinaryHeap<Reverse<(u64, u32)>>,
+    face_key: Vec<f64>,
 }
 
 pub(crate) fn solve(
@@ -306,6 +310,12 @@ impl<'a> Solver<'a> {
             },
             resets: 0,
             mean_edge,
+            face_heap: BinaryHeap::new(),
+            face_key: if options.schedule == Schedule::FaceSorted {
+                vec![f64::INFINITY; nf]
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -461,7 +471,14 @@ impl<'a> Solver<'a> {
 
     fn run(&mut self) {
         let mesh = self.mesh;
-        while let Some(Reverse((key, v))) = self.heap.pop() {
+        let face_sorted = self.options.schedule == Schedule::FaceSorted;
+        loop {
+            if face_sorted && self.pop_face() {
+                continue;
+            }
+            let Some(Reverse((key, v))) = self.heap.pop() else {
+                break;
+            };
             let vi = v as usize;
             let d = f64::from_bits(key);
             if d.to_bits() != self.dist[vi].to_bits() {
@@ -486,6 +503,8 @@ impl<'a> Solver<'a> {
             self.stats.vertex_pops += 1;
             if first {
                 self.inside[vi] = true;
+            }
+            if first && !face_sorted {
                 // The faces around v join the traversed area; the lists
                 // waiting to enter them propagate now.
                 for h in mesh.outgoing(v) {
@@ -509,6 +528,40 @@ impl<'a> Solver<'a> {
                 self.process(h);
             }
         }
+    }
+
+    /// FTP: traverses the waiting face whose entering lists reach its apex
+    /// soonest, if that comes before the next vertex. Returns whether a face
+    /// was taken (or a stale entry dropped).
+    fn pop_face(&mut self) -> bool {
+        let Some(&Reverse((key, f))) = self.face_heap.peek() else {
+            return false;
+        };
+        let next_vertex = self.heap.peek().map(|Reverse((k, _))| f64::from_bits(*k));
+        let d = f64::from_bits(key);
+        if next_vertex.is_some_and(|v| v < d) {
+            return false;
+        }
+        if self.options.max_distance.is_some_and(|m| d > m) {
+            // Everything left is farther: the vertex queue is too.
+            self.face_heap.clear();
+            self.heap.clear();
+            return false;
+        }
+        self.face_heap.pop();
+        let fi = f as usize;
+        if self.entered[fi] != NONE || self.face_key[fi].to_bits() != key {
+            return true; // stale
+        }
+        self.pops += 1;
+        self.entered[fi] = self.pops;
+        for e in 3 * f..3 * f + 3 {
+            self.enqueue(e);
+        }
+        while let Some(h) = self.fifo.pop_front() {
+            self.process(h);
+        }
+        true
     }
 
     /// AVTP's window reset (Du et al. 2021, Algorithm 3, lines 6-14): the
@@ -658,38 +711,35 @@ impl<'a> Solver<'a> {
         }
         let list = &mut self.pool[idx as usize];
         let before = list.len();
-        if self.options.pruning.pairwise {
-            for &w in windows {
-                let mut w = w;
-                loop {
-                    let Some(top) = list.last_mut() else {
-                        list.push(w);
-                        break;
-                    };
-                    match prune_adjacent_splitting(top, &mut w, &self.tol) {
-                        SplitOutcome::Pair(PairOutcome::KeepBoth) => {
-                            list.push(w);
-                            break;
-                        }
-                        SplitOutcome::Pair(PairOutcome::RemoveSecond) => break,
-                        SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
-                            list.pop();
-                        }
-                        SplitOutcome::FirstSplit(right) => {
-                            // [top's left piece, w, top's right piece]
-                            list.push(w);
-                            w = right;
-                        }
-                        SplitOutcome::SecondSplit(right) => {
-                            // [w's left piece, top, w's right piece]
-                            list.insert(list.len() - 1, w);
-                            w = right;
-                        }
-                    }
+        let tol = &self.tol;
+        match (self.options.pruning.pairs, self.options.merge) {
+            (PairRule::Off, Merge::OrderFree) => list.extend_from_slice(windows),
+            (PairRule::Off, Merge::OrderPreserving) => {
+                for &w in windows {
+                    let at = list.partition_point(|e| e.window.b0 <= w.window.b0);
+                    list.insert(at, w);
                 }
             }
-        } else {
-            list.extend_from_slice(windows);
+            (PairRule::Adjacent, Merge::OrderFree) => {
+                for &w in windows {
+                    merge_behind(list, w, tol);
+                }
+            }
+            (PairRule::Adjacent, Merge::OrderPreserving) => {
+                for &w in windows {
+                    merge_in_order(list, w, tol);
+                }
+            }
+            (PairRule::Exhaustive, _) => {
+                for &w in windows {
+                    merge_against_all(list, w, tol, false);
+                }
+            }
+            (PairRule::Trimming, _) => {
+                for &w in windows {
+                    merge_against_all(list, w, tol, true);
+                }
+            }
         }
         let after = list.len();
         self.live = self.live + after as u64 - before as u64;
@@ -701,8 +751,31 @@ impl<'a> Solver<'a> {
             self.free.push(idx);
             return;
         }
-        if self.inside[self.mesh.tail(h) as usize] || self.inside[self.mesh.head(h) as usize] {
-            self.enqueue(h);
+        match self.options.schedule {
+            Schedule::VertexSorted => {
+                let mesh = self.mesh;
+                if self.inside[mesh.tail(h) as usize] || self.inside[mesh.head(h) as usize] {
+                    self.enqueue(h);
+                }
+            }
+            Schedule::FaceSorted => {
+                let f = h / 3;
+                if self.entered[f as usize] != NONE {
+                    self.enqueue(h);
+                } else {
+                    // FTP's triangle priority: the best path to the apex
+                    // through the windows waiting to enter it.
+                    let tri = Triangle::new(self.mesh.length(h), self.apex[h as usize]);
+                    let key = windows
+                        .iter()
+                        .map(|e| e.window.apex_distance(&tri).0)
+                        .fold(f64::INFINITY, f64::min);
+                    if key < self.face_key[f as usize] {
+                        self.face_key[f as usize] = key;
+                        self.face_heap.push(Reverse((key.to_bits(), f)));
+                    }
+                }
+            }
         }
     }
 
@@ -824,6 +897,9 @@ impl<'a> Solver<'a> {
         let prime = self.entered[f as usize] == self.pops;
         let rule1 = self.options.pruning.rule1;
         let check = self.options.pruning.vertex_check;
+        let best_splits = info
+            .get(s)
+            .is_some_and(|x| list[s].window.b0 <= x.0 && x.0 <= list[s].window.b1);
         let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
         let a_right = tri.to_right_frame(DVec2::ZERO);
         let (da, db, dc) = (
@@ -839,7 +915,15 @@ impl<'a> Solver<'a> {
         for (i, e) in list.iter().enumerate() {
             let w = &e.window;
             let (t, sp, d) = info[i];
-            let cut = (rule1 && i != s && self.tol.beats(best, d)).then_some(sp_s);
+            let dominated = i != s && self.tol.beats(best, d);
+            let cut = match rule1 {
+                Rule1::OneAngleTwoSides => dominated,
+                // Only windows that split at the apex, against a best one
+                // that splits there too (Case 9).
+                Rule1::OneAngleOneSplit => dominated && best_splits && w.b0 <= t && t <= w.b1,
+                Rule1::Off => false,
+            }
+            .then_some(sp_s);
             let r = one_angle_two_sides(w, t, sp, cut);
             if let Some((x0, x1, reach)) = r.left {
                 props += 1;
@@ -905,5 +989,100 @@ impl<'a> Solver<'a> {
             distance,
             nearest_source,
         }
+    }
+}
+
+/// Rules 2 and 3 with the order-free merge: `w` goes behind the list,
+/// checked against the window before it (and on, while it removes them).
+fn merge_behind(list: &mut Vec<EndedWindow>, mut w: EndedWindow, tol: &Tolerance) {
+    loop {
+        let Some(top) = list.last_mut() else {
+            list.push(w);
+            return;
+        };
+        match prune_adjacent_splitting(top, &mut w, tol) {
+            SplitOutcome::Pair(PairOutcome::KeepBoth) => {
+                list.push(w);
+                return;
+            }
+            SplitOutcome::Pair(PairOutcome::RemoveSecond) => return,
+            SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
+                list.pop();
+            }
+            SplitOutcome::FirstSplit(right) => {
+                // [top's left piece, w, top's right piece]
+                list.push(w);
+                w = right;
+            }
+            SplitOutcome::SecondSplit(right) => {
+                // [w's left piece, top, w's right piece]
+                list.insert(list.len() - 1, w);
+                w = right;
+            }
+        }
+    }
+}
+
+/// Rules 2 and 3 with the order-preserving merge (OPVTP): `w` is inserted
+/// where its start belongs and checked against both neighbours.
+fn merge_in_order(list: &mut Vec<EndedWindow>, mut w: EndedWindow, tol: &Tolerance) {
+    let mut at = list.partition_point(|e| e.window.b0 <= w.window.b0);
+    // Left neighbours.
+    while at > 0 {
+        match prune_adjacent_ended(&mut list[at - 1], &mut w, tol) {
+            PairOutcome::KeepBoth => break,
+            PairOutcome::RemoveSecond => return,
+            PairOutcome::RemoveFirst => {
+                list.remove(at - 1);
+                at -= 1;
+            }
+        }
+    }
+    // Right neighbours.
+    while at < list.len() {
+        match prune_adjacent_ended(&mut w, &mut list[at], tol) {
+            PairOutcome::KeepBoth => break,
+            PairOutcome::RemoveFirst => return,
+            PairOutcome::RemoveSecond => {
+                list.remove(at);
+            }
+        }
+    }
+    list.insert(at, w);
+}
+
+/// VTP-Exhaustive and VTP-Trimming: `w` against every window of the list;
+/// with `split`, a loser that sticks out on both sides of the winner is cut
+/// into its two outer pieces (MMP's trimming).
+fn merge_against_all(list: &mut Vec<EndedWindow>, w: EndedWindow, tol: &Tolerance, split: bool) {
+    // Right pieces of the incoming window waiting their turn (no allocation
+    // unless the incoming window is split).
+    let mut pending: Vec<EndedWindow> = Vec::new();
+    let mut next = Some(w);
+    'incoming: while let Some(mut w) = next.take().or_else(|| pending.pop()) {
+        let mut i = 0;
+        while i < list.len() {
+            let outcome = if split {
+                prune_adjacent_splitting(&mut list[i], &mut w, tol)
+            } else {
+                SplitOutcome::Pair(prune_adjacent_ended(&mut list[i], &mut w, tol))
+            };
+            match outcome {
+                SplitOutcome::Pair(PairOutcome::KeepBoth) => i += 1,
+                SplitOutcome::Pair(PairOutcome::RemoveSecond) => continue 'incoming,
+                SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
+                    list.swap_remove(i);
+                }
+                SplitOutcome::FirstSplit(right) => {
+                    list.push(right);
+                    i += 1;
+                }
+                SplitOutcome::SecondSplit(right) => {
+                    pending.push(right);
+                    i += 1;
+                }
+            }
+        }
+        list.push(w);
     }
 }

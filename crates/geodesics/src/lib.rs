@@ -29,7 +29,7 @@ use std::str::FromStr;
 pub use geodesics_avtp::{AvtpError, AvtpOptions};
 pub use geodesics_io as io;
 pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
-pub use geodesics_vtp::{Pruning, VtpError, VtpOptions};
+pub use geodesics_vtp::{Merge, PairRule, Pruning, Rule1, Schedule, VtpError, VtpOptions};
 pub use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats};
 
 /// Errors of the facade: one per solver crate, plus bad algorithm names.
@@ -72,17 +72,25 @@ pub enum Algorithm {
 
 impl Algorithm {
     /// Names accepted by [`FromStr`] (and the CLI's `--algorithm`).
-    pub const NAMES: &'static [&'static str] = &["vtp", "vtp-no-rule1", "vtp-no-rules23", "avtp"];
+    pub const NAMES: &'static [&'static str] = &[
+        "vtp",
+        "ftp",
+        "opvtp",
+        "opftp",
+        "vtp-mmp",
+        "vtp-ch",
+        "vtp-exhaustive",
+        "vtp-trimming",
+        "vtp-no-rule1",
+        "vtp-no-rules23",
+        "avtp",
+    ];
 
-    /// The paper's name of this algorithm (column headers of the tables).
+    /// The paper's name of this algorithm (column headers of the tables);
+    /// `vtp-custom` for VTP settings that match no named variant.
     pub fn name(&self) -> &'static str {
         match self {
-            Algorithm::Vtp(o) => match (o.pruning.rule1, o.pruning.pairwise) {
-                (true, true) => "vtp",
-                (false, true) => "vtp-no-rule1",
-                (true, false) => "vtp-no-rules23",
-                (false, false) => "vtp-unpruned",
-            },
+            Algorithm::Vtp(o) => o.variant_name().unwrap_or("vtp-custom"),
             Algorithm::Avtp(_) => "avtp",
         }
     }
@@ -137,20 +145,11 @@ impl FromStr for Algorithm {
     type Err = Error;
 
     fn from_str(name: &str) -> Result<Self, Error> {
-        let vtp = |rule1: bool, pairwise: bool| {
-            Algorithm::Vtp(VtpOptions {
-                pruning: Pruning {
-                    rule1,
-                    pairwise,
-                    ..Pruning::default()
-                },
-                ..VtpOptions::default()
-            })
-        };
-        match name.to_ascii_lowercase().as_str() {
-            "vtp" => Ok(vtp(true, true)),
-            "vtp-no-rule1" => Ok(vtp(false, true)),
-            "vtp-no-rules23" => Ok(vtp(true, false)),
+        let name_lower = name.to_ascii_lowercase();
+        if let Some(options) = VtpOptions::variant(&name_lower) {
+            return Ok(Algorithm::Vtp(options));
+        }
+        match name_lower.as_str() {
             "avtp" => Ok(Algorithm::Avtp(AvtpOptions::default())),
             _ => Err(Error::UnknownAlgorithm {
                 name: name.to_string(),
@@ -185,7 +184,8 @@ mod tests {
         let err = "dijkstra".parse::<Algorithm>().unwrap_err();
         assert_eq!(
             err.to_string(),
-            "unknown algorithm `dijkstra` (known: vtp, vtp-no-rule1, vtp-no-rules23, avtp)"
+            "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-mmp, vtp-ch, \
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, avtp)"
         );
     }
 
