@@ -29,6 +29,7 @@ use std::str::FromStr;
 pub use geodesics_avtp::{AvtpError, AvtpOptions};
 pub use geodesics_io as io;
 pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
+pub use geodesics_mmp::{MmpError, MmpOptions};
 pub use geodesics_vtp::{Merge, PairRule, Pruning, Rule1, Schedule, VtpError, VtpOptions};
 pub use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats};
 
@@ -44,6 +45,9 @@ pub enum Error {
     /// The AVTP solver refused its input.
     #[error(transparent)]
     Avtp(#[from] AvtpError),
+    /// The MMP solver refused its input.
+    #[error(transparent)]
+    Mmp(#[from] MmpError),
     /// A setting was given to an algorithm that does not have it.
     #[error("algorithm `{algorithm}` takes no {setting}")]
     NoSuchSetting {
@@ -68,6 +72,9 @@ pub enum Algorithm {
     /// Approximate VTP (Du et al. 2021): a window reset every λ mean edge
     /// lengths; never below exact.
     Avtp(AvtpOptions),
+    /// MMP (Surazhsky et al. 2005), exact, with a window priority queue or
+    /// FWP's distance buckets (Xu et al. 2015).
+    Mmp(MmpOptions),
 }
 
 impl Algorithm {
@@ -83,6 +90,8 @@ impl Algorithm {
         "vtp-trimming",
         "vtp-no-rule1",
         "vtp-no-rules23",
+        "mmp",
+        "fwp-mmp",
         "avtp",
     ];
 
@@ -92,6 +101,10 @@ impl Algorithm {
         match self {
             Algorithm::Vtp(o) => o.variant_name().unwrap_or("vtp-custom"),
             Algorithm::Avtp(_) => "avtp",
+            Algorithm::Mmp(o) => match o.schedule {
+                geodesics_mmp::Schedule::PriorityQueue => "mmp",
+                geodesics_mmp::Schedule::Fwp => "fwp-mmp",
+            },
         }
     }
 
@@ -124,6 +137,7 @@ impl Algorithm {
         match &mut self {
             Algorithm::Vtp(o) => o.max_distance = max_distance,
             Algorithm::Avtp(o) => o.max_distance = max_distance,
+            Algorithm::Mmp(o) => o.max_distance = max_distance,
         }
         self
     }
@@ -151,6 +165,14 @@ impl FromStr for Algorithm {
         }
         match name_lower.as_str() {
             "avtp" => Ok(Algorithm::Avtp(AvtpOptions::default())),
+            "mmp" | "fwp-mmp" => Ok(Algorithm::Mmp(MmpOptions {
+                schedule: if name_lower == "mmp" {
+                    geodesics_mmp::Schedule::PriorityQueue
+                } else {
+                    geodesics_mmp::Schedule::Fwp
+                },
+                max_distance: None,
+            })),
             _ => Err(Error::UnknownAlgorithm {
                 name: name.to_string(),
             }),
@@ -168,6 +190,7 @@ pub fn compute(
     match algorithm {
         Algorithm::Vtp(options) => Ok(geodesics_vtp::solve(mesh, sources, options)?),
         Algorithm::Avtp(options) => Ok(geodesics_avtp::solve(mesh, sources, options)?),
+        Algorithm::Mmp(options) => Ok(geodesics_mmp::solve(mesh, sources, options)?),
     }
 }
 
@@ -185,7 +208,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-mmp, vtp-ch, \
-             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, avtp)"
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, avtp)"
         );
     }
 
