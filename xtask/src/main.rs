@@ -9,6 +9,9 @@
 //!   `--large` adds a second Loop step (1.1 M faces).
 //! - `cargo xtask avtp [--runs N] [--large]`: AVTP's accuracy/speed table,
 //!   λ from 2 to 128 against exact VTP in the same run, on the same meshes.
+//! - `cargo xtask tables [--runs N]`: every algorithm on `bunny.off` and
+//!   `armadillo.obj` (Tables 1 and 3 of the VTP paper): time, propagations
+//!   and peak window memory, with ratios to VTP from the same run.
 //! - `cargo xtask load [--runs N]`: read and topology-build times of every
 //!   real mesh.
 //!
@@ -21,6 +24,7 @@ use std::process::Command;
 use std::time::Instant;
 
 mod avtp;
+mod tables;
 
 use anyhow::{Context, Result, bail};
 use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
@@ -29,7 +33,7 @@ fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(command) = args.first() else {
         eprintln!(
-            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | load [--runs N]"
+            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | tables [--runs N] | load [--runs N]"
         );
         return Ok(());
     };
@@ -37,8 +41,9 @@ fn main() -> Result<()> {
     match command.as_str() {
         "bench" => bench(runs, args.iter().any(|a| a == "--large")),
         "avtp" => avtp::table(runs, args.iter().any(|a| a == "--large")),
+        "tables" => tables::table(runs),
         "load" => load(runs),
-        other => bail!("unknown xtask command `{other}` (try: bench, avtp, load)"),
+        other => bail!("unknown xtask command `{other}` (try: bench, avtp, tables, load)"),
     }
 }
 

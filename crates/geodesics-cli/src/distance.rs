@@ -33,6 +33,10 @@ pub struct DistanceArgs {
     /// Stop propagating beyond this distance (farther vertices are `inf`).
     #[arg(long, value_name = "D")]
     pub max_distance: Option<f64>,
+    /// Parallel algorithms (`pvtp`): worker threads (default: every logical
+    /// CPU). Results are identical from run to run for a given count.
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
     /// Approximate algorithms (`avtp`): reset the windows every L mean edge
     /// lengths. Larger is slower and more accurate (default 8, about 0.1 %
     /// mean error).
@@ -88,6 +92,9 @@ pub fn run(args: &DistanceArgs) -> Result<()> {
     }
     let mut algorithm: Algorithm = args.algorithm.parse()?;
     algorithm = algorithm.with_max_distance(args.max_distance);
+    if let Some(t) = args.threads {
+        algorithm = algorithm.with_threads(t)?;
+    }
     if args.lambda.is_some() || args.lambda_g.is_some() {
         if let Some(l) = args.lambda
             && !(l > 0.0 && l.is_finite())

@@ -30,6 +30,7 @@ pub use geodesics_avtp::{AvtpError, AvtpOptions};
 pub use geodesics_io as io;
 pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
 pub use geodesics_mmp::{MmpError, MmpOptions};
+pub use geodesics_pvtp::{PvtpError, PvtpOptions};
 pub use geodesics_vtp::{Merge, PairRule, Pruning, Rule1, Schedule, VtpError, VtpOptions};
 pub use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats};
 
@@ -48,6 +49,9 @@ pub enum Error {
     /// The MMP solver refused its input.
     #[error(transparent)]
     Mmp(#[from] MmpError),
+    /// The PVTP solver refused its input.
+    #[error(transparent)]
+    Pvtp(#[from] PvtpError),
     /// A setting was given to an algorithm that does not have it.
     #[error("algorithm `{algorithm}` takes no {setting}")]
     NoSuchSetting {
@@ -75,6 +79,9 @@ pub enum Algorithm {
     /// MMP (Surazhsky et al. 2005), exact, with a window priority queue or
     /// FWP's distance buckets (Xu et al. 2015).
     Mmp(MmpOptions),
+    /// Parallel VTP (Du et al. 2021), exact and deterministic per thread
+    /// count.
+    Pvtp(PvtpOptions),
 }
 
 impl Algorithm {
@@ -92,6 +99,7 @@ impl Algorithm {
         "vtp-no-rules23",
         "mmp",
         "fwp-mmp",
+        "pvtp",
         "avtp",
     ];
 
@@ -105,6 +113,7 @@ impl Algorithm {
                 geodesics_mmp::Schedule::PriorityQueue => "mmp",
                 geodesics_mmp::Schedule::Fwp => "fwp-mmp",
             },
+            Algorithm::Pvtp(_) => "pvtp",
         }
     }
 
@@ -132,12 +141,28 @@ impl Algorithm {
         }
     }
 
+    /// Sets the thread count of a parallel algorithm (0: rayon's default,
+    /// all logical CPUs). An error for sequential algorithms.
+    pub fn with_threads(mut self, threads: usize) -> Result<Self, Error> {
+        match &mut self {
+            Algorithm::Pvtp(o) => {
+                o.threads = threads;
+                Ok(self)
+            }
+            other => Err(Error::NoSuchSetting {
+                algorithm: other.name(),
+                setting: "thread count (it is sequential)",
+            }),
+        }
+    }
+
     /// Stops propagation beyond `max_distance` (farther vertices are ∞).
     pub fn with_max_distance(mut self, max_distance: Option<f64>) -> Self {
         match &mut self {
             Algorithm::Vtp(o) => o.max_distance = max_distance,
             Algorithm::Avtp(o) => o.max_distance = max_distance,
             Algorithm::Mmp(o) => o.max_distance = max_distance,
+            Algorithm::Pvtp(o) => o.max_distance = max_distance,
         }
         self
     }
@@ -165,6 +190,7 @@ impl FromStr for Algorithm {
         }
         match name_lower.as_str() {
             "avtp" => Ok(Algorithm::Avtp(AvtpOptions::default())),
+            "pvtp" => Ok(Algorithm::Pvtp(PvtpOptions::default())),
             "mmp" | "fwp-mmp" => Ok(Algorithm::Mmp(MmpOptions {
                 schedule: if name_lower == "mmp" {
                     geodesics_mmp::Schedule::PriorityQueue
@@ -191,6 +217,7 @@ pub fn compute(
         Algorithm::Vtp(options) => Ok(geodesics_vtp::solve(mesh, sources, options)?),
         Algorithm::Avtp(options) => Ok(geodesics_avtp::solve(mesh, sources, options)?),
         Algorithm::Mmp(options) => Ok(geodesics_mmp::solve(mesh, sources, options)?),
+        Algorithm::Pvtp(options) => Ok(geodesics_pvtp::solve(mesh, sources, options)?),
     }
 }
 
@@ -208,7 +235,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-mmp, vtp-ch, \
-             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, avtp)"
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, pvtp, avtp)"
         );
     }
 

@@ -1,0 +1,352 @@
+//! Exact geodesic distances on triangle meshes by *parallel* vertex-oriented
+//! triangle propagation: PVTP, Algorithm 2 of Du, He, Chen, Xin, Zhang and
+//! Liu, "Parallel and approximate geodesic computation" (2021), built on the
+//! windows of `geodesics-window` and following our sequential VTP
+//! (`geodesics-vtp`) in every geometric case.
+//!
+//! A round pops the nearest vertices from distance buckets (width `h/τ`,
+//! Section 4.2) until `k_ad` vertices (adapted by Eq. 5) or `K = 100·T`
+//! face jobs (Eq. 6; a face job holds the up to three window lists of one
+//! face) are ready, then propagates lists in *phases*: all lists of a
+//! phase cross their faces in parallel on a rayon pool of `T` threads,
+//! each face job writing only its own output and the lists it owns in
+//! that phase (delayed writes; each list has a main and a side buffer, the
+//! dual arrays `A_from` / `A_to`); the distance updates are then applied
+//! and the improved vertices re-queued sequentially in job order, and the
+//! lists that received windows and touch the traversed area form the next
+//! phase. Rounds and phases repeat until the buckets are empty. The result is exact (the
+//! same pruning rules as VTP: Rule 1, the vertex check, Rules 2/3 when
+//! merging) and **deterministic**: the same input and `T` give the same
+//! bits on every run, whatever the thread timing.
+//!
+//! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
+//! and the sources are pseudo-sources as in VTP: they emit windows when
+//! popped and again whenever their distance drops by more than the
+//! tolerance afterwards, including inside the swept area (paper 4.7).
+//!
+//! # Example
+//!
+//! ```
+//! use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
+//! use geodesics_pvtp::{PvtpOptions, solve};
+//! use geodesics_window::Source;
+//! use glam::DVec3;
+//!
+//! // A unit square in the plane, split along its diagonal.
+//! let soup = IndexedTriangles {
+//!     positions: vec![
+//!         DVec3::new(0.0, 0.0, 0.0),
+//!         DVec3::new(1.0, 0.0, 0.0),
+//!         DVec3::new(1.0, 1.0, 0.0),
+//!         DVec3::new(0.0, 1.0, 0.0),
+//!     ],
+//!     triangles: vec![[0, 1, 2], [0, 2, 3]],
+//! };
+//! let mesh = Mesh::build(soup, &BuildOptions::default()).unwrap();
+//! let options = PvtpOptions { threads: 2, ..PvtpOptions::default() };
+//! let (field, stats) = solve(&mesh, &[Source::Vertex(1)], &options).unwrap();
+//! assert_eq!(field.distance[1], 0.0);
+//! assert!((field.distance[3] - 2f64.sqrt()).abs() < 1e-15);
+//! assert_eq!(field.nearest_source, vec![0; 4]);
+//! assert!(stats.windows_created > 0);
+//! ```
+
+// Negated comparisons (`!(a < b)`) are deliberate: a NaN fails them.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod buckets;
+mod error;
+mod solver;
+
+pub use error::PvtpError;
+pub use geodesics_window::{DistanceField, Source, Stats};
+
+use std::time::Instant;
+
+use geodesics_mesh::Mesh;
+
+/// Options of [`solve`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PvtpOptions {
+    /// Threads of the rayon pool the solve runs on; `0` means rayon's
+    /// default (the number of logical CPUs, or `RAYON_NUM_THREADS`). The
+    /// result depends on it only through the order of work (it is exact
+    /// for every value, and bit-identical between runs with the same value).
+    pub threads: usize,
+    /// Stop the wavefront beyond this distance; vertices farther away are
+    /// reported unreachable (`f64::INFINITY`).
+    pub max_distance: Option<f64>,
+}
+
+/// Computes exact geodesic distances from `sources` to every vertex of
+/// `mesh` with PVTP on `options.threads` threads: per input vertex, the
+/// distance to the nearest source and which source that is, plus
+/// statistics of the run (counted as VTP counts them;
+/// `propagation_seconds` is the wall time of the parallel phases, which
+/// include the merges, and `pruning_seconds` is 0).
+///
+/// Never panics on input: an empty source list, an index out of range, an
+/// unreferenced source vertex, an edge parameter outside `[0, 1]`,
+/// barycentric coordinates that are not finite, negative or do not sum to 1,
+/// a negative maximum distance, or a thread pool that cannot start are
+/// [`PvtpError`]s.
+pub fn solve(
+    mesh: &Mesh,
+    sources: &[Source],
+    options: &PvtpOptions,
+) -> Result<(DistanceField, Stats), PvtpError> {
+    let start = Instant::now();
+    solver::validate(mesh, sources, options)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .map_err(|e| PvtpError::ThreadPool {
+            threads: options.threads,
+            message: e.to_string(),
+        })?;
+    let threads = pool.current_num_threads();
+    Ok(pool.install(|| {
+        let mut s = solver::Solver::new(mesh, options, threads);
+        for (i, source) in sources.iter().enumerate() {
+            s.seed(i as u32, source);
+        }
+        s.run();
+        s.finish(start)
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geodesics_mesh::{BuildOptions, IndexedTriangles};
+    use glam::DVec3;
+
+    fn build(soup: IndexedTriangles) -> Mesh {
+        Mesh::build(soup, &BuildOptions::default()).expect("valid test mesh")
+    }
+
+    fn run(mesh: &Mesh, sources: &[Source], threads: usize) -> DistanceField {
+        let options = PvtpOptions {
+            threads,
+            ..PvtpOptions::default()
+        };
+        solve(mesh, sources, &options).expect("valid input").0
+    }
+
+    fn vtp(mesh: &Mesh, sources: &[Source]) -> DistanceField {
+        geodesics_vtp::solve(mesh, sources, &geodesics_vtp::VtpOptions::default())
+            .expect("valid input")
+            .0
+    }
+
+    fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| {
+                assert_eq!(x.is_finite(), y.is_finite(), "{x} vs {y}");
+                if x.is_finite() { (x - y).abs() } else { 0.0 }
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// On a plane every geodesic is straight: exact Euclidean distances,
+    /// also on the regular grid, whose ties broke the authors' queue.
+    #[test]
+    fn flat_grid_gives_euclidean_distances_for_any_thread_count() {
+        let soup = geodesics_shapes::flat_grid(40, 30, 0.25);
+        let mesh = build(soup.clone());
+        for source in [0u32, 20 * 41 + 17] {
+            let s = soup.positions[source as usize];
+            for threads in [1, 2, 3, 8] {
+                let field = run(&mesh, &[Source::Vertex(source)], threads);
+                for (v, d) in field.distance.iter().enumerate() {
+                    let exact = soup.positions[v].distance(s);
+                    assert!(
+                        (d - exact).abs() < 1e-13,
+                        "T={threads}: vertex {v}: {d} vs {exact}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn point_sources_in_faces_and_on_edges_are_straight_on_a_plane() {
+        let soup = geodesics_shapes::flat_grid(20, 20, 0.5);
+        let mesh = build(soup.clone());
+        let f = 211u32;
+        let bary = [0.2, 0.3, 0.5];
+        let c = mesh.face(f).map(|v| soup.positions[v as usize]);
+        let q = c[0] * bary[0] + c[1] * bary[1] + c[2] * bary[2];
+        let h = 3 * 100 + 1;
+        let e = soup.positions[mesh.tail(h) as usize] * 0.7
+            + soup.positions[mesh.head(h) as usize] * 0.3;
+        let field = run(
+            &mesh,
+            &[
+                Source::FacePoint {
+                    face: f,
+                    barycentric: bary,
+                },
+                Source::EdgePoint {
+                    half_edge: h,
+                    t: 0.3,
+                },
+            ],
+            2,
+        );
+        for (v, (&d, &s)) in field.distance.iter().zip(&field.nearest_source).enumerate() {
+            let p = soup.positions[v];
+            let (dq, de) = (p.distance(q), p.distance(e));
+            assert!((d - dq.min(de)).abs() < 1e-13, "vertex {v}");
+            let own = if s == 0 { dq } else { de };
+            assert!((own - d).abs() < 1e-13, "vertex {v}: nearest source {s}");
+        }
+    }
+
+    /// Many saddle vertices (pseudo-sources re-emitting inside the swept
+    /// area): bit-identical across runs for a given T, and equal to VTP
+    /// for every T.
+    #[test]
+    fn bumpy_sphere_is_deterministic_and_matches_vtp() {
+        let mesh = build(geodesics_shapes::bumpy_sphere(3, 1.0, 12, 0.15, 7));
+        let sources = [Source::Vertex(0), Source::Vertex(100)];
+        let reference = vtp(&mesh, &sources);
+        for threads in [1, 2, 8] {
+            let a = run(&mesh, &sources, threads);
+            let b = run(&mesh, &sources, threads);
+            assert!(
+                a.distance
+                    .iter()
+                    .zip(&b.distance)
+                    .all(|(x, y)| x.to_bits() == y.to_bits())
+                    && a.nearest_source == b.nearest_source,
+                "T={threads}: two runs differ"
+            );
+            assert!(max_diff(&a.distance, &reference.distance) < 1e-13);
+        }
+    }
+
+    /// Two squares touching at one corner (a pinch vertex): paths pass
+    /// through it, as in VTP; a second component stays unreachable.
+    #[test]
+    fn pinch_vertex_is_passed_and_other_components_stay_infinite() {
+        let p = |x: f64, y: f64| DVec3::new(x, y, 0.0);
+        let soup = IndexedTriangles {
+            positions: vec![
+                p(0.0, 0.0),
+                p(1.0, 0.0),
+                p(1.0, 1.0),
+                p(0.0, 1.0),
+                p(2.0, 1.0),
+                p(2.0, 2.0),
+                p(1.0, 2.0),
+                p(5.0, 5.0),
+                p(6.0, 5.0),
+                p(5.0, 6.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3], [2, 4, 5], [2, 5, 6], [7, 8, 9]],
+        };
+        let mesh = build(soup);
+        let field = run(&mesh, &[Source::Vertex(0)], 2);
+        let reference = vtp(&mesh, &[Source::Vertex(0)]);
+        assert!((field.distance[5] - 2.0 * 2f64.sqrt()).abs() < 1e-14);
+        assert!((field.distance[4] - (2f64.sqrt() + 1.0)).abs() < 1e-14);
+        assert!(field.distance[7..].iter().all(|d| d.is_infinite()));
+        assert_eq!(
+            &field.nearest_source[7..],
+            &[geodesics_window::NO_SOURCE; 3]
+        );
+        assert!(max_diff(&field.distance, &reference.distance) < 1e-14);
+    }
+
+    #[test]
+    fn max_distance_cuts_the_field() {
+        let soup = geodesics_shapes::flat_grid(30, 30, 0.1);
+        let mesh = build(soup.clone());
+        let options = PvtpOptions {
+            threads: 2,
+            max_distance: Some(1.0),
+        };
+        let (field, _) = solve(&mesh, &[Source::Vertex(0)], &options).unwrap();
+        for (v, d) in field.distance.iter().enumerate() {
+            let exact = soup.positions[v].length();
+            if exact <= 1.0 - 1e-12 {
+                assert!((d - exact).abs() < 1e-13, "vertex {v}");
+            } else if exact > 1.0 + 1e-12 {
+                assert!(d.is_infinite(), "vertex {v} beyond the limit: {d}");
+            }
+        }
+    }
+
+    #[test]
+    fn statistics_are_counted() {
+        let mesh = build(geodesics_shapes::icosphere(3, 1.0));
+        let (_, stats) = solve(
+            &mesh,
+            &[Source::Vertex(0)],
+            &PvtpOptions {
+                threads: 0,
+                ..PvtpOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(stats.window_propagations > 0);
+        assert!(stats.windows_created >= stats.window_propagations);
+        assert_eq!(
+            stats.prime_propagations + stats.secondary_propagations,
+            stats.window_propagations
+        );
+        assert!(stats.peak_live_windows > 0);
+        assert_eq!(
+            stats.peak_window_bytes,
+            stats.peak_live_windows * std::mem::size_of::<geodesics_window::EndedWindow>() as u64
+        );
+        assert_eq!(stats.vertex_pops as usize, mesh.vertex_count());
+        assert!(stats.total_seconds > 0.0);
+    }
+
+    #[test]
+    fn bad_input_is_refused() {
+        let mesh = build(geodesics_shapes::flat_grid(2, 2, 1.0));
+        let o = PvtpOptions::default();
+        assert_eq!(solve(&mesh, &[], &o), Err(PvtpError::NoSources));
+        assert!(matches!(
+            solve(&mesh, &[Source::Vertex(9)], &o),
+            Err(PvtpError::VertexOutOfRange { vertex: 9, .. })
+        ));
+        assert!(matches!(
+            solve(
+                &mesh,
+                &[Source::EdgePoint {
+                    half_edge: 0,
+                    t: 1.5
+                }],
+                &o
+            ),
+            Err(PvtpError::EdgeParameter { .. })
+        ));
+        assert!(matches!(
+            solve(
+                &mesh,
+                &[Source::FacePoint {
+                    face: 0,
+                    barycentric: [0.5, 0.5, 0.5]
+                }],
+                &o
+            ),
+            Err(PvtpError::Barycentric { .. })
+        ));
+        assert!(matches!(
+            solve(
+                &mesh,
+                &[Source::Vertex(0)],
+                &PvtpOptions {
+                    max_distance: Some(f64::NAN),
+                    ..o.clone()
+                }
+            ),
+            Err(PvtpError::MaxDistance(_))
+        ));
+    }
+}

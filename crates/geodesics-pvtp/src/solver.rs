@@ -1,0 +1,1156 @@
+//! Algorithm 2 of Du et al. 2021 (PVTP) on the primitives of
+//! `geodesics-window`, with the sequential VTP of `geodesics-vtp` as the
+//! model for every geometric and topological case.
+//!
+//! # Data flow of one phase (Algorithm 2, lines 11–16)
+//!
+//! The unit of parallel work is a *face job*: the window lists of one
+//! face selected for this phase (up to three half-edges), propagated
+//! through it, plus the pseudo-source windows its corners emit, with the
+//! children merged (Rules 2/3) into the lists beyond its three edges. A
+//! phase runs its jobs in parallel, then applies their delayed writes
+//! sequentially in job order.
+//!
+//! Each half-edge has a main list and a side list (the dual arrays
+//! `A_from` / `A_to`): a job *takes* the main lists of its selected
+//! half-edges, and appends children to the lists beyond its edges — to
+//! the side list when that list is being taken in the same phase, to the
+//! main one otherwise; after the phase the side lists that got windows
+//! become main. Each list is thus touched by exactly one job of a phase
+//! (its own face's job takes it, the job of the face across writes it),
+//! so jobs never wait for each other and the result does not depend on
+//! thread timing. (The per-half-edge `Mutex` only proves that exclusivity
+//! to the compiler; it is never contended.)
+//!
+//! Vertex distances are frozen during a phase: jobs read them for the
+//! vertex checks and report their apex candidates; the sequential merge
+//! applies them in job order (ties keep the first, so the reduction is by
+//! distance, then job order), re-queues improved vertices and selects for
+//! the next phase the lists that received children and have an end
+//! inside the traversed area, exactly when VTP would queue them.
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::time::Instant;
+
+use geodesics_mesh::Mesh;
+use geodesics_window::prune::{
+    PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_splitting, vertex_check_ended,
+};
+use geodesics_window::{
+    DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window,
+};
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use crate::buckets::Buckets;
+use crate::{PvtpError, PvtpOptions};
+
+const NONE: u32 = u32::MAX;
+
+/// Face jobs selected per thread and round (`K = min(K_ad, 100·T)`, Eq. 6
+/// of the paper, counted in faces of up to three window lists: checking
+/// which lists hold windows would cost the sequential part a cache miss
+/// per half-edge).
+const LISTS_PER_THREAD: usize = 100;
+
+/// Bounds of the adaptive vertex count `k_ad` (Eq. 5), as in the authors'
+/// code.
+const K_AD_MIN: usize = 6;
+const K_AD_MAX: usize = 1_000_000_000;
+
+/// Phases with fewer jobs than this run on the calling thread (same code,
+/// same result): fork/join would cost more than it saves.
+const PARALLEL_MIN_JOBS: usize = 24;
+
+/// Spare list buffers a worker keeps for reuse.
+const STASH: usize = 256;
+
+/// Flags of a list beyond a job's edge: windows were appended, to the
+/// side list, and the list has an end inside the traversed area.
+const TOUCHED: u8 = 1;
+const TO_SIDE: u8 = 2;
+const QUEUE: u8 = 4;
+
+/// How a face is crossed (as in `geodesics-vtp`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FaceKind {
+    /// Positive area: the generic one-step propagation.
+    Proper,
+    /// Zero area with exactly one zero-length edge: the two long edges are
+    /// one segment, windows pass from one to the other unchanged.
+    Zipper,
+    /// Any other zero-area face: windows stop; its corners are
+    /// pseudo-sources.
+    Blocked,
+}
+
+/// The two lists of one half-edge: which one is the main list is bit 0
+/// of its state word (see [`Solver`]), the other is the side list.
+type ListPair = Mutex<[Vec<EndedWindow>; 2]>;
+
+#[inline]
+fn lock(m: &ListPair) -> MutexGuard<'_, [Vec<EndedWindow>; 2]> {
+    // A poisoned lock means a worker panicked (an invariant broke); the
+    // panic propagates through rayon anyway, the data is still usable.
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Appends `windows` to `list`, pruning adjacent pairs (Rule 2 within one
+/// propagated list, Rule 3 against what the list already holds), exactly
+/// as VTP's order-free merge, splitting a window that loses the middle of
+/// its interval. Returns the new length.
+#[inline]
+fn prune_append(list: &mut Vec<EndedWindow>, windows: &[EndedWindow], tol: &Tolerance) -> usize {
+    for &w in windows {
+        let mut w = w;
+        loop {
+            let Some(top) = list.last_mut() else {
+                list.push(w);
+                break;
+            };
+            match prune_adjacent_splitting(top, &mut w, tol) {
+                SplitOutcome::Pair(PairOutcome::KeepBoth) => {
+                    list.push(w);
+                    break;
+                }
+                SplitOutcome::Pair(PairOutcome::RemoveSecond) => break,
+                SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
+                    list.pop();
+                }
+                SplitOutcome::FirstSplit(right) => {
+                    // [top's left piece, w, top's right piece]
+                    list.push(w);
+                    w = right;
+                }
+                SplitOutcome::SecondSplit(right) => {
+                    // [w's left piece, top, w's right piece]
+                    list.insert(list.len() - 1, w);
+                    w = right;
+                }
+            }
+        }
+    }
+    list.len()
+}
+
+/// Whether a pseudo-source now at `d`, which last emitted at `emitted`
+/// (infinite: never), must emit (again): only when its distance dropped by
+/// more than the tolerance.
+trait EmitPolicy {
+    fn should_emit(&self, d: f64, emitted: f64) -> bool;
+}
+
+impl EmitPolicy for Tolerance {
+    #[inline]
+    fn should_emit(&self, d: f64, emitted: f64) -> bool {
+        emitted == f64::INFINITY || self.beats(d, emitted)
+    }
+}
+
+/// Per-vertex state, packed so that the sequential parts touch one cache
+/// line per vertex.
+#[derive(Clone, Copy, Debug)]
+struct Vert {
+    /// Current distance (frozen during a phase).
+    dist: f64,
+    /// Distance at which it last emitted pseudo-source windows.
+    emitted: f64,
+    /// Index of the source of `dist`.
+    src: u32,
+    /// Popped at least once (in the traversed area).
+    inside: bool,
+    /// Saddle, flat, boundary, pinch, zero-area-face corner or source.
+    pseudo: bool,
+    /// Has pinch copies (see `Solver::groups`).
+    grouped: bool,
+}
+
+/// Per-face bookkeeping, packed so that the sequential parts touch one
+/// cache line per face.
+#[derive(Clone, Copy, Debug)]
+struct FaceRec {
+    /// The phase for which the face has a job, and that job's index.
+    job_phase: u32,
+    job: u32,
+    /// The round in which the face joined the traversed area, or NONE.
+    entered: u32,
+    /// Per half-edge `3f + i`: `phase << 1 | main`, the last phase in which
+    /// its main list was (or will be) taken, and which list of its pair is
+    /// the main one (they swap when the side list received windows while
+    /// the main one was taken).
+    state: [u32; 3],
+}
+
+/// Read-only state shared by the jobs of a phase.
+struct Shared<'a> {
+    mesh: &'a Mesh,
+    tol: Tolerance,
+    apex: &'a [DVec2],
+    kind: &'a [FaceKind],
+    verts: &'a [Vert],
+    lists: &'a [ListPair],
+    faces: &'a [FaceRec],
+    round: u32,
+    phase: u32,
+}
+
+/// What one face job does: which lists it takes and which corners emit.
+#[derive(Clone, Copy, Debug)]
+struct JobIn {
+    face: u32,
+    /// Bit `i`: take the main list of half-edge `3·face + i`.
+    mask: u8,
+    /// Per corner `j`: `(σ, source)` of a pseudo-source window to put
+    /// beyond the opposite edge (`σ` infinite: none).
+    emit: [(f64, u32); 3],
+}
+
+/// What one face job reports (its delayed writes), reused across phases.
+#[derive(Clone, Debug)]
+struct JobOut {
+    /// Distance updates `(vertex, distance, source)` that beat the frozen
+    /// distances: neighbours of emitting corners along the edges, then the
+    /// apex of each list; `updates[..n_updates]` are valid.
+    updates: [(u32, f64, u32); 9],
+    n_updates: u8,
+    /// Whether the face joined the traversed area in this round.
+    prime: bool,
+    /// Per edge `3f + e`: the half-edge beyond it and what happened to
+    /// its list (`TOUCHED`, `TO_SIDE`, `QUEUE`).
+    targets: [(u32, u8); 3],
+    /// Windows consumed (the input lists).
+    consumed: u64,
+    /// Net change of the lengths of the lists beyond.
+    grown: i64,
+    /// Window propagations (each child computed counts once).
+    props: u64,
+    /// Pseudo-source windows made.
+    emitted: u64,
+}
+
+impl Default for JobOut {
+    fn default() -> Self {
+        JobOut {
+            updates: [(NONE, f64::INFINITY, NO_SOURCE); 9],
+            n_updates: 0,
+            prime: false,
+            targets: [(NONE, 0); 3],
+            consumed: 0,
+            grown: 0,
+            props: 0,
+            emitted: 0,
+        }
+    }
+}
+
+impl JobOut {
+    #[inline]
+    fn push_update(&mut self, v: u32, d: f64, source: u32) {
+        // At most 2 per emitting corner and 1 per list: 9.
+        self.updates[self.n_updates as usize] = (v, d, source);
+        self.n_updates += 1;
+    }
+}
+
+/// Per-worker scratch buffers (never part of a result).
+#[derive(Default)]
+struct Scratch {
+    left: Vec<EndedWindow>,
+    right: Vec<EndedWindow>,
+    info: Vec<(f64, f64, f64)>,
+    /// Emptied list buffers kept to give to lists that start anew.
+    stash: Vec<Vec<EndedWindow>>,
+}
+
+/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
+/// head on +x), assuming `q` lies in the closed face of `h` (`y ≥ 0`).
+fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
+    let t = mesh.position(mesh.tail(h));
+    let e = mesh.position(mesh.head(h)) - t;
+    let l = mesh.length(h);
+    if l <= 0.0 {
+        return DVec2::ZERO;
+    }
+    let r = q - t;
+    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
+}
+
+/// One face job: emit the pseudo-source windows of its corners, then
+/// propagate the selected lists of face `f` and merge the children beyond
+/// (see the module comment). Reads only `sh` and the lists it owns in this
+/// phase; writes only `out` and those lists.
+fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
+    *out = JobOut::default();
+    let mesh = sh.mesh;
+    let f = job.face;
+    out.prime = sh.faces[f as usize].entered == sh.round;
+    let corners = mesh.face(f);
+    // Distances of the corners, frozen for the phase, lowered locally by
+    // this job's own updates (real path lengths, so the vertex checks stay
+    // sound).
+    let mut d = corners.map(|v| sh.verts[v as usize].dist);
+    // Pseudo-sources (Section 5.2 of Qin et al.): one full-edge window
+    // with source at corner j on the edge opposite it, lighting the face
+    // beyond.
+    for (j, &(sigma, source)) in job.emit.iter().enumerate() {
+        if sigma < f64::INFINITY {
+            // Relax the two other corners along the edges of the face.
+            let h = 3 * f + j as u32;
+            for (k, len) in [
+                ((j + 1) % 3, mesh.length(h)),
+                ((j + 2) % 3, mesh.length(Mesh::prev(h))),
+            ] {
+                let dk = sigma + len;
+                if dk < d[k] {
+                    d[k] = dk;
+                    out.push_update(corners[k], dk, source);
+                }
+            }
+            let o = 3 * f + ((j as u32 + 1) % 3);
+            if sh.kind[f as usize] != FaceKind::Proper || mesh.twin(o).is_none() {
+                continue;
+            }
+            let l = mesh.length(o);
+            let c = sh.apex[o as usize];
+            let w = Window {
+                b0: 0.0,
+                b1: l,
+                p: DVec2::new(l - c.x, -c.y),
+                sigma,
+                source,
+            };
+            out.emitted += 1;
+            append_beyond(sh, f, (j + 1) % 3, &[EndedWindow::new(w)], s, out);
+        }
+    }
+    if job.mask == 0 {
+        return;
+    }
+    let kind = sh.kind[f as usize];
+    for i in 0..3usize {
+        if job.mask & (1 << i) == 0 {
+            continue;
+        }
+        let h = 3 * f + i as u32;
+        let main = (sh.faces[f as usize].state[i] & 1) as usize;
+        let mut list = std::mem::take(&mut lock(&sh.lists[h as usize])[main]);
+        if list.is_empty() {
+            continue;
+        }
+        out.consumed += list.len() as u64;
+        match kind {
+            FaceKind::Proper => {
+                cross(sh, h, i, &mut list, &mut d, s, out);
+                let (left, right) = (std::mem::take(&mut s.left), std::mem::take(&mut s.right));
+                append_beyond(sh, f, (i + 2) % 3, &left, s, out);
+                append_beyond(sh, f, (i + 1) % 3, &right, s, out);
+                s.left = left;
+                s.right = right;
+            }
+            FaceKind::Zipper => {
+                if mesh.length(h) > 0.0 {
+                    let n = Mesh::next(h);
+                    let other = if mesh.length(n) > 0.0 {
+                        n
+                    } else {
+                        Mesh::prev(h)
+                    };
+                    append_beyond(sh, f, (other - 3 * f) as usize, &list, s, out);
+                }
+            }
+            FaceKind::Blocked => {}
+        }
+        if s.stash.len() < STASH && list.capacity() > 0 {
+            list.clear();
+            s.stash.push(list);
+        }
+    }
+}
+
+/// Merges `windows` into the list beyond edge `3f + e` (the twin's main
+/// list, or its side list if the main one is taken in this phase).
+#[inline]
+fn append_beyond(
+    sh: &Shared<'_>,
+    f: u32,
+    e: usize,
+    windows: &[EndedWindow],
+    s: &mut Scratch,
+    out: &mut JobOut,
+) {
+    if windows.is_empty() {
+        return;
+    }
+    let Some(t) = sh.mesh.twin(3 * f + e as u32) else {
+        return;
+    };
+    let st = sh.faces[(t / 3) as usize].state[(t % 3) as usize];
+    let to_side = st >> 1 == sh.phase;
+    let mut guard = lock(&sh.lists[t as usize]);
+    let list = &mut guard[(st & 1) as usize ^ usize::from(to_side)];
+    if list.capacity() == 0
+        && let Some(spare) = s.stash.pop()
+    {
+        *list = spare;
+    }
+    let before = list.len();
+    let after = prune_append(list, windows, &sh.tol);
+    out.grown += after as i64 - before as i64;
+    let mesh = sh.mesh;
+    let queue = sh.verts[mesh.tail(t) as usize].inside || sh.verts[mesh.head(t) as usize].inside;
+    out.targets[e] = (
+        t,
+        TOUCHED | if to_side { TO_SIDE } else { 0 } | if queue { QUEUE } else { 0 },
+    );
+}
+
+/// Propagates the list of half-edge `h = 3f + i` through its (proper) face,
+/// as VTP's `cross`: the vertex check against the distances of the edge's
+/// ends and of the vertex behind it, Rule 1 (one angle two sides) against
+/// the list's best path to the apex, one step per window, the vertex check
+/// on each child. Children go to `s.left` (beyond `CA`) and `s.right`
+/// (beyond `BC`); the apex candidate to `out.apex[i]` (the write to the
+/// apex is delayed to the merge).
+fn cross(
+    sh: &Shared<'_>,
+    h: u32,
+    i: usize,
+    list: &mut Vec<EndedWindow>,
+    d: &mut [f64; 3],
+    s: &mut Scratch,
+    out: &mut JobOut,
+) {
+    let mesh = sh.mesh;
+    let n = Mesh::next(h);
+    let p = Mesh::prev(h);
+    // Corners: A = i, B = i + 1, C = i + 2.
+    let (ia, ib, ic) = (i, (i + 1) % 3, (i + 2) % 3);
+    let tri = Triangle::with_lengths(
+        mesh.length(h),
+        sh.apex[h as usize],
+        mesh.length(p),
+        mesh.length(n),
+    );
+    let tol = sh.tol;
+    // Checking with vertices before propagating (Cases 10–12): the list
+    // may have waited while the distances of its edge's ends, and of the
+    // vertex behind it, went down.
+    {
+        let (da, db) = (d[ia], d[ib]);
+        let (behind, d_behind) = match mesh.twin(h) {
+            Some(t) if sh.kind[Mesh::face_of(t) as usize] == FaceKind::Proper => {
+                let q = sh.apex[t as usize];
+                (
+                    DVec2::new(tri.l - q.x, -q.y),
+                    sh.verts[mesh.opposite_vertex(t) as usize].dist,
+                )
+            }
+            _ => (DVec2::ZERO, f64::INFINITY),
+        };
+        list.retain(|w| !vertex_check_ended(w, tri.l, da, db, behind, d_behind, &tol));
+    }
+    let info = &mut s.info;
+    info.clear();
+    let mut best = f64::INFINITY;
+    let mut k = 0;
+    for (j, e) in list.iter().enumerate() {
+        let w = &e.window;
+        // The apex through the window (Section 4.1's `dis`): straight when
+        // visible, else bent at the nearer end (ends are cached).
+        let t = w.split_parameter(&tri);
+        let (dj, sp) = if t < w.b0 {
+            (e.d0 + DVec2::new(w.b0, 0.0).distance(tri.c), w.b0)
+        } else if t > w.b1 {
+            (e.d1 + DVec2::new(w.b1, 0.0).distance(tri.c), w.b1)
+        } else if t >= w.b0 {
+            (w.distance_to(tri.c), t)
+        } else {
+            (f64::INFINITY, w.b0) // NaN split: the window lights nothing
+        };
+        info.push((t, sp, dj));
+        if dj < best {
+            best = dj;
+            k = j;
+        }
+    }
+    if best < d[ic] {
+        d[ic] = best;
+        out.push_update(mesh.tail(p), best, list[k].window.source);
+    }
+    let sp_s = info.get(k).map_or(0.0, |x| x.1);
+    let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
+    let a_right = tri.to_right_frame(DVec2::ZERO);
+    let (da, db, dc) = (d[ia], d[ib], d[ic]);
+    s.left.clear();
+    s.right.clear();
+    let mut props = 0u64;
+    for (j, e) in list.iter().enumerate() {
+        let w = &e.window;
+        let (t, sp, dj) = info[j];
+        // Rule 1 (Proposition 4.1 of Qin et al.): only against a best
+        // window that beats this one by more than the tolerance.
+        let cut = (j != k && tol.beats(best, dj)).then_some(sp_s);
+        let r = one_angle_two_sides(w, t, sp, cut);
+        if let Some((x0, x1, reach)) = r.left {
+            props += 1;
+            if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
+                let cw = EndedWindow::new(cw);
+                if !vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &tol) {
+                    s.left.push(cw);
+                }
+            }
+        }
+        if let Some((x0, x1, from)) = r.right {
+            props += 1;
+            if let Some(cw) = w.child_right(&tri, x0, x1, from) {
+                let cw = EndedWindow::new(cw);
+                if !vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &tol) {
+                    s.right.push(cw);
+                }
+            }
+        }
+    }
+    out.props += props;
+}
+
+/// The solver state (sequential parts: selection, seeding, merge).
+pub(crate) struct Solver<'a> {
+    mesh: &'a Mesh,
+    max_distance: Option<f64>,
+    threads: usize,
+    tol: Tolerance,
+    apex: Vec<DVec2>,
+    kind: Vec<FaceKind>,
+    verts: Vec<Vert>,
+    group_of: Vec<u32>,
+    groups: Vec<Vec<u32>>,
+    buckets: Buckets,
+    lists: Vec<ListPair>,
+    faces: Vec<FaceRec>,
+    /// Per vertex `v`: its outgoing half-edges are
+    /// `fan[fan_start[v]..fan_start[v + 1]]` (one per face around it).
+    fan_start: Vec<u32>,
+    fan: Vec<u32>,
+    /// Jobs of the next phase, in scheduling order.
+    pending: Vec<JobIn>,
+    /// Jobs of the running phase.
+    current: Vec<JobIn>,
+    outs: Vec<JobOut>,
+    scratch: Vec<Mutex<Scratch>>,
+    phase: u32,
+    round: u32,
+    /// Adaptive number of vertices popped per round (Eq. 5).
+    k_ad: usize,
+    /// Distance of the last vertex popped (the paper's `P_nd`).
+    p_nd: f64,
+    c_large: usize,
+    c_small: usize,
+    live: u64,
+    stats: Stats,
+    parallel_seconds: f64,
+}
+
+impl<'a> Solver<'a> {
+    pub(crate) fn new(mesh: &'a Mesh, options: &PvtpOptions, threads: usize) -> Self {
+        let tol = Tolerance::for_mesh(mesh);
+        let nh = mesh.half_edge_count();
+        let nf = mesh.face_count();
+        let nv = mesh.vertex_count();
+        // Per-element setup runs on the pool too (order-preserving collects).
+        let apex: Vec<DVec2> = (0..nh as u32)
+            .into_par_iter()
+            .map(|h| frame_coords(mesh, h, mesh.position(mesh.opposite_vertex(h))))
+            .collect();
+        let kind: Vec<FaceKind> = (0..nf)
+            .into_par_iter()
+            .map(|f| {
+                let hs = [3 * f, 3 * f + 1, 3 * f + 2];
+                let proper = hs
+                    .iter()
+                    .all(|&h| apex[h].y > 0.0 && mesh.length(h as u32) > 0.0);
+                let zeros = hs.iter().filter(|&&h| mesh.length(h as u32) == 0.0).count();
+                if proper {
+                    FaceKind::Proper
+                } else if zeros == 1 {
+                    FaceKind::Zipper
+                } else {
+                    FaceKind::Blocked
+                }
+            })
+            .collect();
+        let mut pseudo: Vec<bool> = (0..nv as u32)
+            .into_par_iter()
+            .map(|v| mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v)))
+            .collect();
+        for (f, k) in kind.iter().enumerate() {
+            if *k != FaceKind::Proper {
+                for v in mesh.face(f as u32) {
+                    pseudo[v as usize] = true;
+                }
+            }
+        }
+        let mut group_of = vec![NONE; nv];
+        let mut groups: Vec<Vec<u32>> = Vec::new();
+        for v in mesh.input_vertex_count()..nv {
+            let o = mesh.pinch_origin(v as u32);
+            if group_of[o as usize] == NONE {
+                group_of[o as usize] = groups.len() as u32;
+                groups.push(vec![o]);
+            }
+            let g = group_of[o as usize];
+            group_of[v] = g;
+            groups[g as usize].push(v as u32);
+        }
+        for g in &groups {
+            for &v in g {
+                pseudo[v as usize] = true;
+            }
+        }
+        // Bucket width h/τ (Section 4.2): h the mean edge length, τ the
+        // rounded mean anisotropy (at least 1).
+        let tau = mesh.summary().anisotropy.mean.round().max(1.0);
+        let width = mesh.average_edge_length() / tau;
+        let cap = (4 * nv + 1024).min(1 << 22);
+        // Faces around each vertex as a flat list of outgoing half-edges
+        // (counting sort by tail): one lookup instead of a walk.
+        let mut fan_start = vec![0u32; nv + 1];
+        for h in 0..nh as u32 {
+            fan_start[mesh.tail(h) as usize + 1] += 1;
+        }
+        for v in 0..nv {
+            fan_start[v + 1] += fan_start[v];
+        }
+        let mut fill = fan_start.clone();
+        let mut fan = vec![0u32; nh];
+        for h in 0..nh as u32 {
+            let v = mesh.tail(h) as usize;
+            fan[fill[v] as usize] = h;
+            fill[v] += 1;
+        }
+        Solver {
+            mesh,
+            max_distance: options.max_distance,
+            threads,
+            tol,
+            apex,
+            kind,
+            verts: (0..nv)
+                .map(|v| Vert {
+                    dist: f64::INFINITY,
+                    emitted: f64::INFINITY,
+                    src: NO_SOURCE,
+                    inside: false,
+                    pseudo: pseudo[v],
+                    grouped: group_of[v] != NONE,
+                })
+                .collect(),
+            group_of,
+            groups,
+            buckets: Buckets::new(width, cap),
+            lists: (0..nh)
+                .into_par_iter()
+                .map(|_| Mutex::new([Vec::new(), Vec::new()]))
+                .collect(),
+            faces: vec![
+                FaceRec {
+                    job_phase: NONE,
+                    job: NONE,
+                    entered: NONE,
+                    state: [0; 3],
+                };
+                nf
+            ],
+            fan_start,
+            fan,
+            pending: Vec::new(),
+            current: Vec::new(),
+            outs: Vec::new(),
+            scratch: (0..threads.max(1))
+                .map(|_| Mutex::new(Scratch::default()))
+                .collect(),
+            phase: 1,
+            round: 0,
+            k_ad: K_AD_MIN.max(threads + 1),
+            p_nd: 0.0,
+            c_large: 0,
+            c_small: 0,
+            live: 0,
+            stats: Stats::default(),
+            parallel_seconds: 0.0,
+        }
+    }
+
+    // ---------------------------------------------------------------- seeds
+
+    pub(crate) fn seed(&mut self, i: u32, source: &Source) {
+        let mesh = self.mesh;
+        match *source {
+            Source::Vertex(v) => self.seed_vertex(i, v),
+            Source::EdgePoint { half_edge: h, t } => {
+                if t == 0.0 {
+                    return self.seed_vertex(i, mesh.tail(h));
+                }
+                if t == 1.0 {
+                    return self.seed_vertex(i, mesh.head(h));
+                }
+                let a = mesh.position(mesh.tail(h));
+                let b = mesh.position(mesh.head(h));
+                let q = a + (b - a) * t;
+                // Paths along the edge line may continue through its ends.
+                for v in [mesh.tail(h), mesh.head(h)] {
+                    self.force_pseudo(v);
+                }
+                self.seed_point_in_face(i, Mesh::face_of(h), q);
+                if let Some(t) = mesh.twin(h) {
+                    self.seed_point_in_face(i, Mesh::face_of(t), q);
+                }
+            }
+            Source::FacePoint { face, barycentric } => {
+                let c = mesh.face(face).map(|v| mesh.position(v));
+                let s: f64 = barycentric.iter().sum();
+                let q = (c[0] * barycentric[0] + c[1] * barycentric[1] + c[2] * barycentric[2]) / s;
+                let zeros = barycentric.iter().filter(|&&b| b == 0.0).count();
+                if zeros == 2 {
+                    let k = barycentric.iter().position(|&b| b != 0.0).unwrap_or(0);
+                    return self.seed_vertex(i, mesh.face(face)[k]);
+                }
+                if zeros == 1 {
+                    let k = barycentric.iter().position(|&b| b == 0.0).unwrap_or(0);
+                    let (i1, i2) = ((k + 1) % 3, (k + 2) % 3);
+                    let t = barycentric[i2] / (barycentric[i1] + barycentric[i2]);
+                    let half_edge = 3 * face + i1 as u32;
+                    return self.seed(i, &Source::EdgePoint { half_edge, t });
+                }
+                if self.kind[face as usize] != FaceKind::Proper {
+                    for v in mesh.face(face) {
+                        self.force_pseudo(v);
+                    }
+                }
+                self.seed_point_in_face(i, face, q);
+            }
+        }
+    }
+
+    fn force_pseudo(&mut self, v: u32) {
+        self.verts[v as usize].pseudo = true;
+        let g = self.group_of[v as usize];
+        if g != NONE {
+            for &u in &self.groups[g as usize] {
+                self.verts[u as usize].pseudo = true;
+            }
+        }
+    }
+
+    fn seed_vertex(&mut self, i: u32, v: u32) {
+        self.force_pseudo(v);
+        self.relax(v, 0.0, i);
+    }
+
+    /// A point source `q` in the closed face `f`: one window with source `q`
+    /// on each edge of `f`, lighting the next face; the corners get their
+    /// straight distances.
+    fn seed_point_in_face(&mut self, i: u32, f: u32, q: DVec3) {
+        let mesh = self.mesh;
+        for h in 3 * f..3 * f + 3 {
+            let v = mesh.tail(h);
+            self.relax(v, mesh.position(v).distance(q), i);
+        }
+        if self.kind[f as usize] != FaceKind::Proper {
+            return;
+        }
+        for h in 3 * f..3 * f + 3 {
+            let Some(t) = mesh.twin(h) else { continue };
+            let c = frame_coords(mesh, h, q);
+            let l = mesh.length(h);
+            if c.y > 0.0 {
+                let w = Window {
+                    b0: 0.0,
+                    b1: l,
+                    p: DVec2::new(l - c.x, -c.y),
+                    sigma: 0.0,
+                    source: i,
+                };
+                self.stats.windows_created += 1;
+                self.append_now(t, &[EndedWindow::new(w)]);
+            }
+        }
+    }
+
+    // ------------------------------------------------------------ distances
+
+    /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter.
+    #[inline]
+    fn relax(&mut self, v: u32, d: f64, s: u32) {
+        if !(d < self.verts[v as usize].dist) {
+            return;
+        }
+        self.set_dist(v, d, s);
+        if self.verts[v as usize].grouped {
+            let g = self.group_of[v as usize];
+            for k in 0..self.groups[g as usize].len() {
+                let u = self.groups[g as usize][k];
+                if u != v && d < self.verts[u as usize].dist {
+                    self.set_dist(u, d, s);
+                }
+            }
+        }
+    }
+
+    #[inline]
+    fn set_dist(&mut self, v: u32, d: f64, s: u32) {
+        let vi = v as usize;
+        let x = &mut self.verts[vi];
+        x.dist = d;
+        x.src = s;
+        let requeue = !x.inside || (x.pseudo && self.tol.should_emit(d, x.emitted));
+        if d > self.p_nd {
+            self.c_large += 1;
+        } else if d < self.p_nd {
+            self.c_small += 1;
+        }
+        // A vertex ahead of the wavefront is (re)queued; an inside one only
+        // matters again if it is a pseudo-source that must re-emit (paper
+        // 4.7: saddle vertices lowered inside the swept region).
+        if requeue {
+            self.buckets.push(d, v);
+        }
+    }
+
+    // ------------------------------------------------------------ lists
+
+    /// Appends to the main list of half-edge `h` outside a phase (seeds).
+    fn append_now(&mut self, h: u32, windows: &[EndedWindow]) {
+        let main = (self.faces[(h / 3) as usize].state[(h % 3) as usize] & 1) as usize;
+        let list = &mut self.lists[h as usize]
+            .get_mut()
+            .unwrap_or_else(PoisonError::into_inner)[main];
+        let before = list.len();
+        let after = prune_append(list, windows, &self.tol);
+        self.live = self.live + after as u64 - before as u64;
+        self.stats.peak_live_windows = self.stats.peak_live_windows.max(self.live);
+        let mesh = self.mesh;
+        if after > 0
+            && (self.verts[mesh.tail(h) as usize].inside
+                || self.verts[mesh.head(h) as usize].inside)
+        {
+            self.schedule_list(h, self.phase);
+        }
+    }
+
+    /// The job of face `f` in phase `phase` (made on first use).
+    #[inline]
+    fn job_for(&mut self, f: u32, phase: u32) -> usize {
+        let rec = &mut self.faces[f as usize];
+        if rec.job_phase != phase {
+            rec.job_phase = phase;
+            rec.job = self.pending.len() as u32;
+            self.pending.push(JobIn {
+                face: f,
+                mask: 0,
+                emit: [(f64::INFINITY, NO_SOURCE); 3],
+            });
+        }
+        rec.job as usize
+    }
+
+    /// Selects the main list of `h` for phase `phase`; `false` if it
+    /// already was.
+    #[inline]
+    fn schedule_list(&mut self, h: u32, phase: u32) -> bool {
+        let st = &mut self.faces[(h / 3) as usize].state[(h % 3) as usize];
+        if *st >> 1 == phase {
+            return false;
+        }
+        *st = phase << 1 | (*st & 1);
+        let k = self.job_for(Mesh::face_of(h), phase);
+        self.pending[k].mask |= 1 << (h % 3);
+        true
+    }
+
+    /// Selects the three lists of face `f` for the coming phase; returns
+    /// 1 if the face had no job yet.
+    #[inline]
+    fn schedule_face(&mut self, f: u32) -> usize {
+        let phase = self.phase;
+        let rec = &mut self.faces[f as usize];
+        let new = usize::from(rec.job_phase != phase);
+        if rec.entered == NONE {
+            rec.entered = self.round;
+        }
+        for st in &mut rec.state {
+            *st = phase << 1 | (*st & 1);
+        }
+        let k = self.job_for(f, phase);
+        self.pending[k].mask = 7;
+        new
+    }
+
+    // ------------------------------------------------------------ main loop
+
+    pub(crate) fn run(&mut self) {
+        loop {
+            if self.pending.is_empty() {
+                self.select();
+            }
+            if self.pending.is_empty() {
+                break;
+            }
+            self.run_phase();
+        }
+    }
+
+    /// K-window-list selection (Sections 4.2–4.3): pop the nearest vertices
+    /// until `k_ad` of them were popped or `K = 100·T` face jobs are made.
+    /// A popped vertex selects the lists VTP would queue: those of the
+    /// faces around it and those beyond its edges.
+    fn select(&mut self) {
+        // Eq. 5: more vertices per round while updates land beyond the
+        // popped range, fewer when they land behind it.
+        if self.round > 0 {
+            let k = self.k_ad as i64 + self.c_large as i64 - self.c_small as i64;
+            self.k_ad = (k.max(0) as usize).clamp(K_AD_MIN.max(self.threads + 1), K_AD_MAX);
+        }
+        self.c_large = 0;
+        self.c_small = 0;
+        self.round += 1;
+        let k_cap = LISTS_PER_THREAD * self.threads.max(1);
+        let mut popped = 0;
+        let mut lists = 0;
+        while popped < self.k_ad && lists < k_cap {
+            let verts = &self.verts;
+            let Some((d, v)) = self.buckets.peek(|v| verts[v as usize].dist.to_bits()) else {
+                break;
+            };
+            if let Some(m) = self.max_distance
+                && d > m
+            {
+                break;
+            }
+            self.buckets.pop();
+            let vi = v as usize;
+            let x = self.verts[vi];
+            let first = !x.inside;
+            let emit = x.pseudo && self.tol.should_emit(d, x.emitted);
+            if !first && !emit {
+                continue;
+            }
+            popped += 1;
+            self.p_nd = d;
+            self.stats.vertex_pops += 1;
+            if first {
+                self.verts[vi].inside = true;
+                for k in self.fan_start[vi]..self.fan_start[vi + 1] {
+                    let f = Mesh::face_of(self.fan[k as usize]);
+                    // VTP queues the lists of the faces around v and those
+                    // beyond its edges, which are lists of faces around v too.
+                    lists += self.schedule_face(f);
+                }
+            }
+            if emit {
+                lists += self.emit(v);
+            }
+        }
+    }
+
+    /// Pseudo-source `v`: the jobs of its faces relax its neighbours along
+    /// the edges and put one full-edge window with source `v` on each edge
+    /// opposite it (Section 5.2 of Qin et al., "Saddle Vertices"). Returns
+    /// the number of faces involved.
+    fn emit(&mut self, v: u32) -> usize {
+        let vi = v as usize;
+        let x = &mut self.verts[vi];
+        let (d, s) = (x.dist, x.src);
+        x.emitted = d;
+        self.stats.pseudo_source_emissions += 1;
+        let mut made = 0;
+        for k in self.fan_start[vi]..self.fan_start[vi + 1] {
+            let h = self.fan[k as usize];
+            let k = self.job_for(Mesh::face_of(h), self.phase);
+            self.pending[k].emit[(h % 3) as usize] = (d, s);
+            made += 1;
+        }
+        made
+    }
+
+    /// One phase: the jobs in parallel, then their delayed writes in job
+    /// order.
+    fn run_phase(&mut self) {
+        std::mem::swap(&mut self.current, &mut self.pending);
+        self.pending.clear();
+        let n = self.current.len();
+        if self.outs.len() < n {
+            self.outs.resize_with(n, JobOut::default);
+        }
+        let t0 = Instant::now();
+        {
+            let sh = Shared {
+                mesh: self.mesh,
+                tol: self.tol,
+                apex: &self.apex,
+                kind: &self.kind,
+                verts: &self.verts,
+                lists: &self.lists,
+                faces: &self.faces,
+                round: self.round,
+                phase: self.phase,
+            };
+            let outs = &mut self.outs[..n];
+            let jobs = &self.current[..];
+            let scratch = &self.scratch;
+            if n < PARALLEL_MIN_JOBS || self.threads <= 1 {
+                let mut s = scratch[0].lock().unwrap_or_else(PoisonError::into_inner);
+                for (out, job) in outs.iter_mut().zip(jobs) {
+                    run_job(&sh, job, &mut s, out);
+                }
+            } else {
+                outs.par_iter_mut()
+                    .zip(jobs.par_iter())
+                    .with_min_len(4)
+                    .for_each_init(
+                        || {
+                            let i = rayon::current_thread_index().unwrap_or(0) % scratch.len();
+                            scratch[i].try_lock().ok()
+                        },
+                        |guard, (out, job)| match guard {
+                            Some(s) => run_job(&sh, job, s, out),
+                            None => run_job(&sh, job, &mut Scratch::default(), out),
+                        },
+                    );
+            }
+        }
+        self.parallel_seconds += t0.elapsed().as_secs_f64();
+        // Delayed writes, in job order.
+        let next = self.phase + 1;
+        let mut live = self.live as i64;
+        for k in 0..n {
+            let out = &self.outs[k];
+            let (updates, n_updates, targets) = (out.updates, out.n_updates, out.targets);
+            live += out.grown - out.consumed as i64;
+            let props = out.props;
+            self.stats.window_propagations += props;
+            self.stats.windows_created += props + out.emitted;
+            if out.prime {
+                self.stats.prime_propagations += props;
+            } else {
+                self.stats.secondary_propagations += props;
+            }
+            for &(v, d, s) in &updates[..n_updates as usize] {
+                self.relax(v, d, s);
+            }
+            for &(t, flags) in &targets {
+                if flags & TO_SIDE != 0 {
+                    // Its main list was taken in this phase: the side list
+                    // becomes the main one.
+                    self.faces[(t / 3) as usize].state[(t % 3) as usize] ^= 1;
+                }
+                if flags & QUEUE != 0 {
+                    self.schedule_list(t, next);
+                }
+            }
+        }
+        self.live = live.max(0) as u64;
+        self.stats.peak_live_windows = self.stats.peak_live_windows.max(self.live);
+        self.phase = next;
+    }
+
+    pub(crate) fn finish(mut self, start: Instant) -> (DistanceField, Stats) {
+        let mesh = self.mesh;
+        let n = mesh.input_vertex_count();
+        let mut distance: Vec<f64> = self.verts[..n].iter().map(|x| x.dist).collect();
+        let mut nearest_source: Vec<u32> = self.verts[..n].iter().map(|x| x.src).collect();
+        for v in n..mesh.vertex_count() {
+            let o = mesh.pinch_origin(v as u32) as usize;
+            if self.verts[v].dist < distance[o] {
+                distance[o] = self.verts[v].dist;
+                nearest_source[o] = self.verts[v].src;
+            }
+        }
+        for (d, s) in distance.iter_mut().zip(nearest_source.iter_mut()) {
+            let beyond = self.max_distance.is_some_and(|m| *d > m);
+            if !d.is_finite() || beyond {
+                *d = f64::INFINITY;
+                *s = NO_SOURCE;
+            }
+        }
+        let mut stats = std::mem::take(&mut self.stats);
+        stats.total_seconds = start.elapsed().as_secs_f64();
+        stats.propagation_seconds = self.parallel_seconds;
+        stats.pruning_seconds = 0.0;
+        stats.management_seconds = (stats.total_seconds - self.parallel_seconds).max(0.0);
+        stats.peak_window_bytes =
+            stats.peak_live_windows * std::mem::size_of::<EndedWindow>() as u64;
+        (
+            DistanceField {
+                distance,
+                nearest_source,
+            },
+            stats,
+        )
+    }
+}
+
+/// Checks the sources and options (the same refusals as VTP's).
+pub(crate) fn validate(
+    mesh: &Mesh,
+    sources: &[Source],
+    options: &PvtpOptions,
+) -> Result<(), PvtpError> {
+    if sources.is_empty() {
+        return Err(PvtpError::NoSources);
+    }
+    if let Some(m) = options.max_distance
+        && !(m >= 0.0)
+    {
+        return Err(PvtpError::MaxDistance(m));
+    }
+    let tol = Tolerance::for_mesh(mesh);
+    for (source_index, s) in sources.iter().enumerate() {
+        match *s {
+            Source::Vertex(vertex) => {
+                if vertex as usize >= mesh.input_vertex_count() {
+                    return Err(PvtpError::VertexOutOfRange {
+                        source_index,
+                        vertex,
+                        vertices: mesh.input_vertex_count(),
+                    });
+                }
+                if !mesh.is_referenced(vertex) {
+                    return Err(PvtpError::UnreferencedVertex {
+                        source_index,
+                        vertex,
+                    });
+                }
+            }
+            Source::EdgePoint { half_edge, t } => {
+                if half_edge as usize >= mesh.half_edge_count() {
+                    return Err(PvtpError::HalfEdgeOutOfRange {
+                        source_index,
+                        half_edge,
+                        half_edges: mesh.half_edge_count(),
+                    });
+                }
+                if !(0.0..=1.0).contains(&t) {
+                    return Err(PvtpError::EdgeParameter { source_index, t });
+                }
+            }
+            Source::FacePoint { face, barycentric } => {
+                if face as usize >= mesh.face_count() {
+                    return Err(PvtpError::FaceOutOfRange {
+                        source_index,
+                        face,
+                        faces: mesh.face_count(),
+                    });
+                }
+                let ok = barycentric.iter().all(|b| b.is_finite() && *b >= 0.0)
+                    && (barycentric.iter().sum::<f64>() - 1.0).abs() <= tol.relative;
+                if !ok {
+                    return Err(PvtpError::Barycentric {
+                        source_index,
+                        barycentric,
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
