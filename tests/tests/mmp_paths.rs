@@ -227,7 +227,7 @@ fn check_mesh(name: &str, mesh: &Mesh, source: u32, step: usize, sym: usize) {
                 face: f,
                 barycentric: bary,
             };
-            let q = to.position(mesh);
+            let q = to.position(mesh).unwrap();
             let corners = mesh.face(f);
             let dc: Vec<f64> = corners
                 .iter()
@@ -347,7 +347,7 @@ fn jittered_flat_grid_paths_are_euclidean_from_point_sources() {
         face: 77,
         barycentric: bary,
     };
-    let s = from.position(&mesh);
+    let s = from.position(&mesh).unwrap();
     for schedule in [Schedule::PriorityQueue, Schedule::Fwp] {
         let field = run(
             &mesh,
@@ -369,7 +369,7 @@ fn jittered_flat_grid_paths_are_euclidean_from_point_sources() {
                 barycentric: [0.6, 0.3, 0.1],
             };
             let p = field.path_to_point(f, [0.6, 0.3, 0.1]).unwrap();
-            c.check(&p, from, to, s.distance(to.position(&mesh)));
+            c.check(&p, from, to, s.distance(to.position(&mesh).unwrap()));
         }
     }
     // An edge-point source.
@@ -611,7 +611,7 @@ fn paths_cross_a_zero_area_face_straight() {
             face: 2,
             barycentric: [0.2, 0.2, 0.6],
         };
-        let q = to.position(&mesh);
+        let q = to.position(&mesh).unwrap();
         let p = field.path_to_point(2, [0.2, 0.2, 0.6]).unwrap();
         c.check(
             &p,

@@ -4,7 +4,9 @@
 //! geodesics info [MESH] [--weld] [--json]
 //! geodesics distance [MESH] [--source V ...] [--source-point FACE:B0,B1,B2]
 //!     [--source-edge A,B:T] [--algorithm vtp] [--max-distance D] [--weld]
-//!     [--output FILE] [--stats FILE.json]
+//!     [--output FILE] [--stats FILE.json] [--threads T] [--lambda L]
+//! geodesics path [MESH] --target V [--source V ...] [--algorithm vtp|mmp]
+//!     [--output FILE.obj|.csv|.json]
 //! ```
 //!
 //! Without a mesh file both run on a built-in procedural mesh.
@@ -15,6 +17,7 @@
 mod distance;
 mod info;
 mod input;
+mod path;
 
 use std::process::ExitCode;
 
@@ -34,6 +37,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Compute geodesic distances from sources to every vertex.
     Distance(distance::DistanceArgs),
+    /// Trace the exact shortest path from the nearest source to a vertex.
+    Path(path::PathArgs),
 }
 
 /// Writes to stdout; a closed pipe (`geodesics info | head`) is not an error.
@@ -51,6 +56,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Distance(args) => distance::run(&args),
+        Command::Path(args) => path::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -78,8 +78,8 @@ mod solver;
 mod trim;
 
 pub use error::MmpError;
-pub use geodesics_window::{DistanceField, Source, Stats};
-pub use path::{GeodesicPath, MmpField, SurfacePoint};
+pub use geodesics_window::{DistanceField, GeodesicPath, Source, Stats, SurfacePoint};
+pub use path::MmpField;
 
 use geodesics_mesh::Mesh;
 

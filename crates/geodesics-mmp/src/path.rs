@@ -5,68 +5,15 @@
 //! vertex a root window was emitted from, until a source.
 
 use geodesics_mesh::Mesh;
-use geodesics_window::{DistanceField, Source, Stats};
+use geodesics_window::{DistanceField, GeodesicPath, Source, Stats, SurfacePoint};
 use glam::{DVec2, DVec3};
 
 use crate::MmpError;
 use crate::solver::{FaceKind, NONE, Prov, SOURCE_ORIGIN, Solved, barycentric_ok, frame_coords};
 
-/// A point on the surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SurfacePoint {
-    /// A mesh vertex (input vertex id: pinch copies folded back).
-    Vertex(u32),
-    /// A point inside the edge of `half_edge`, at `t` from its tail (`0`)
-    /// to its head (`1`), `0 < t < 1`.
-    Edge {
-        /// The half-edge (`3 * face + corner`).
-        half_edge: u32,
-        /// Position along the half-edge.
-        t: f64,
-    },
-    /// A point of face `face`, with barycentric coordinates relative to the
-    /// face's corners in [`Mesh::face`] order.
-    Face {
-        /// The face.
-        face: u32,
-        /// Barycentric coordinates.
-        barycentric: [f64; 3],
-    },
-}
-
-impl SurfacePoint {
-    /// The point in 3D.
-    pub fn position(&self, mesh: &Mesh) -> DVec3 {
-        match *self {
-            SurfacePoint::Vertex(v) => mesh.position(v),
-            SurfacePoint::Edge { half_edge, t } => {
-                let a = mesh.position(mesh.tail(half_edge));
-                let b = mesh.position(mesh.head(half_edge));
-                a + (b - a) * t
-            }
-            SurfacePoint::Face { face, barycentric } => {
-                let c = mesh.face(face).map(|v| mesh.position(v));
-                c[0] * barycentric[0] + c[1] * barycentric[1] + c[2] * barycentric[2]
-            }
-        }
-    }
-}
-
-/// A shortest path on the surface from a source to a target.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GeodesicPath {
-    /// The path's points from the source (first) to the target (last):
-    /// the source, every edge crossing, every vertex it passes through
-    /// (saddle, boundary or pinch vertices: the only places it bends), and
-    /// the target. Consecutive points lie in one common face.
-    pub points: Vec<SurfacePoint>,
-    /// The same points in 3D.
-    pub polyline: Vec<DVec3>,
-    /// Length of the polyline (equals the target's distance).
-    pub length: f64,
-    /// Index of the source the path starts at.
-    pub source: u32,
-}
+/// Edge crossings closer than this many tolerance margins to an edge end
+/// are reported as that vertex (as VTP's tracer does).
+const VERTEX_SNAP_MARGINS: f64 = 16.0;
 
 /// The result of [`crate::run`]: the distance field, statistics, and every
 /// window kept, for path queries.
@@ -162,7 +109,9 @@ impl<'a> MmpField<'a> {
             return self.path_to_vertex(mesh.pinch_origin(corners[k]));
         }
         let target = SurfacePoint::Face { face, barycentric };
-        let q = target.position(mesh);
+        let q = target
+            .position(mesh)
+            .expect("the target face was checked above");
         let mut faces = vec![face];
         if zeros == 1 {
             let k = barycentric.iter().position(|&b| b == 0.0).unwrap_or(0);
@@ -206,15 +155,24 @@ impl<'a> MmpField<'a> {
 
     fn finish(&self, mut pts: Vec<SurfacePoint>, source: u32) -> GeodesicPath {
         pts.reverse();
-        pts.dedup();
-        let polyline: Vec<DVec3> = pts.iter().map(|p| p.position(self.mesh)).collect();
-        let length = polyline.windows(2).map(|s| s[0].distance(s[1])).sum();
-        GeodesicPath {
-            points: pts,
-            polyline,
-            length,
-            source,
+        // An edge crossing within the tolerance of an edge end is that
+        // vertex: the path passes through it (it may bend there).
+        let mesh = self.mesh;
+        let snap = VERTEX_SNAP_MARGINS * self.solved.tol.margin(mesh.bbox_diagonal());
+        for p in &mut pts {
+            if let SurfacePoint::Edge { half_edge, t } = *p {
+                let along = t * mesh.length(half_edge);
+                let rest = (1.0 - t) * mesh.length(half_edge);
+                if along <= snap {
+                    *p = SurfacePoint::Vertex(mesh.pinch_origin(mesh.tail(half_edge)));
+                } else if rest <= snap {
+                    *p = SurfacePoint::Vertex(mesh.pinch_origin(mesh.head(half_edge)));
+                }
+            }
         }
+        pts.dedup();
+        GeodesicPath::from_points(self.mesh, pts, source)
+            .expect("traced points are vertices, edges and faces of the mesh")
     }
 
     fn source_surface_point(&self, i: u32) -> SurfacePoint {

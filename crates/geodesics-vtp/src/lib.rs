@@ -52,15 +52,50 @@
 //! assert_eq!(field.nearest_source, vec![0; 4]);
 //! assert!(stats.windows_created > 0);
 //! ```
+//!
+//! # Paths
+//!
+//! [`shortest_path`] (one solve per call) and [`trace_path`] (from the
+//! output of [`solve_with_provenance`], for many targets of one solve)
+//! rebuild exact shortest paths from the O(1) words per vertex that the
+//! solve records, unfolding face by face back towards each pseudo-source:
+//!
+//! ```
+//! use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
+//! use geodesics_vtp::{SurfacePoint, VtpOptions, shortest_path};
+//! use geodesics_window::Source;
+//! use glam::DVec3;
+//!
+//! let soup = IndexedTriangles {
+//!     positions: vec![
+//!         DVec3::new(0.0, 0.0, 0.0),
+//!         DVec3::new(1.0, 0.0, 0.0),
+//!         DVec3::new(1.0, 1.0, 0.0),
+//!         DVec3::new(0.0, 1.0, 0.0),
+//!     ],
+//!     triangles: vec![[0, 1, 2], [0, 2, 3]],
+//! };
+//! let mesh = Mesh::build(soup, &BuildOptions::default()).unwrap();
+//! let path = shortest_path(&mesh, &[Source::Vertex(1)], 3, &VtpOptions::default()).unwrap();
+//! // From vertex 1 across the diagonal 0-2 at its midpoint to vertex 3.
+//! assert_eq!(path.points.len(), 3);
+//! assert_eq!(path.points[0], SurfacePoint::Vertex(1));
+//! assert_eq!(path.points[2], SurfacePoint::Vertex(3));
+//! assert!(matches!(path.points[1], SurfacePoint::Edge { t, .. } if (t - 0.5).abs() < 1e-15));
+//! assert!((path.length - 2f64.sqrt()).abs() < 1e-15);
+//! ```
 
 // Negated comparisons (`!(a < b)`) are deliberate: a NaN fails them.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod error;
+mod path;
 mod solver;
 
 pub use error::VtpError;
 pub use geodesics_window::{DistanceField, Source, Stats};
+pub use geodesics_window::{GeodesicPath, SurfacePoint};
+pub use path::{PathError, shortest_path, trace_path};
 
 use geodesics_mesh::Mesh;
 

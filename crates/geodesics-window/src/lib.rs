@@ -14,7 +14,7 @@
 //! - [`prune`]: the pairwise and vertex pruning predicates of Qin et al. 2016.
 //! - [`Tolerance`]: the one tolerance policy, relative to the mesh scale.
 //! - [`Source`], [`DistanceField`], [`Stats`]: what every solver takes and
-//!   returns.
+//!   returns; [`GeodesicPath`] and [`SurfacePoint`]: the paths they trace.
 //!
 //! # Example
 //!
@@ -49,11 +49,13 @@
 // NaN fail the test, so no NaN can ever pass for a valid interval.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod path;
 pub mod prune;
 mod tolerance;
 mod types;
 mod window;
 
+pub use path::{GeodesicPath, SurfacePoint};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats};
 pub use window::{EndedWindow, Triangle, Window};

@@ -31,8 +31,9 @@ pub use geodesics_io as io;
 pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
 pub use geodesics_mmp::{MmpError, MmpOptions};
 pub use geodesics_pvtp::{PvtpError, PvtpOptions};
+pub use geodesics_vtp::PathError;
 pub use geodesics_vtp::{Merge, PairRule, Pruning, Rule1, Schedule, VtpError, VtpOptions};
-pub use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats};
+pub use geodesics_window::{DistanceField, GeodesicPath, NO_SOURCE, Source, Stats, SurfacePoint};
 
 /// Errors of the facade: one per solver crate, plus bad algorithm names.
 #[derive(Debug, thiserror::Error)]
@@ -52,6 +53,12 @@ pub enum Error {
     /// The PVTP solver refused its input.
     #[error(transparent)]
     Pvtp(#[from] PvtpError),
+    /// A VTP path could not be traced.
+    #[error(transparent)]
+    Path(#[from] PathError),
+    /// Paths were asked of an algorithm that does not trace them.
+    #[error("algorithm `{0}` traces no paths (use vtp, one of its variants, or mmp)")]
+    NoPaths(&'static str),
     /// A setting was given to an algorithm that does not have it.
     #[error("algorithm `{algorithm}` takes no {setting}")]
     NoSuchSetting {
@@ -218,6 +225,40 @@ pub fn compute(
         Algorithm::Avtp(options) => Ok(geodesics_avtp::solve(mesh, sources, options)?),
         Algorithm::Mmp(options) => Ok(geodesics_mmp::solve(mesh, sources, options)?),
         Algorithm::Pvtp(options) => Ok(geodesics_pvtp::solve(mesh, sources, options)?),
+    }
+}
+
+/// The exact shortest path from the nearest of `sources` to vertex
+/// `target` (input numbering), as surface points and a 3D polyline.
+///
+/// VTP (and its variants) traces it from O(1) words recorded per vertex,
+/// unfolding face by face; MMP backtraces its kept windows. Both give the
+/// same path. One solve per call: for many targets of one source set, use
+/// [`geodesics_vtp::trace_path`] or [`geodesics_mmp::run`] directly.
+///
+/// ```
+/// use geodesics::{Algorithm, BuildOptions, Mesh, Source, shortest_path};
+///
+/// let grid = geodesics_shapes::flat_grid(4, 4, 1.0);
+/// let mesh = Mesh::build(grid, &BuildOptions::default())?;
+/// let path = shortest_path(&mesh, &[Source::Vertex(0)], 24, &Algorithm::default())?;
+/// assert!((path.length - 32f64.sqrt()).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn shortest_path(
+    mesh: &Mesh,
+    sources: &[Source],
+    target: u32,
+    algorithm: &Algorithm,
+) -> Result<GeodesicPath, Error> {
+    match algorithm {
+        Algorithm::Vtp(options) => Ok(geodesics_vtp::shortest_path(
+            mesh, sources, target, options,
+        )?),
+        Algorithm::Mmp(options) => {
+            Ok(geodesics_mmp::run(mesh, sources, options)?.path_to_vertex(target)?)
+        }
+        other => Err(Error::NoPaths(other.name())),
     }
 }
 
