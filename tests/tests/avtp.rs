@@ -17,11 +17,20 @@ fn exact(mesh: &Mesh, sources: &[Source]) -> Vec<f64> {
 }
 
 fn avtp(mesh: &Mesh, sources: &[Source], lambda: f64) -> Vec<f64> {
-    solve(mesh, sources, &AvtpOptions::with_lambda(lambda))
-        .unwrap()
-        .0
-        .distance
+    avtp_on(mesh, sources, lambda, None)
 }
+
+/// AVTP (`threads` None) or PAVTP on that many threads.
+fn avtp_on(mesh: &Mesh, sources: &[Source], lambda: f64, threads: Option<usize>) -> Vec<f64> {
+    let options = AvtpOptions {
+        threads,
+        ..AvtpOptions::with_lambda(lambda)
+    };
+    solve(mesh, sources, &options).unwrap().0.distance
+}
+
+/// PAVTP on one and two threads, beside sequential AVTP.
+const PARALLEL: [Option<usize>; 2] = [Some(1), Some(2)];
 
 fn mean_edge(mesh: &Mesh) -> f64 {
     let n = mesh.half_edge_count() as u32;
@@ -185,6 +194,92 @@ fn distance_limit_holds() {
         }
         if l.is_finite() {
             assert!(*l <= 1.0);
+        }
+    }
+}
+
+#[test]
+fn pavtp_huge_lambda_is_exact_pvtp_bit_for_bit() {
+    for (name, mesh) in meshes() {
+        let sources = [Source::Vertex(0)];
+        let e = exact(&mesh, &sources);
+        let lambda = 2.0 * scale(&e) / mean_edge(&mesh) + 1.0;
+        for threads in PARALLEL {
+            let options = geodesics_pvtp::PvtpOptions {
+                threads: threads.unwrap(),
+                ..Default::default()
+            };
+            let pvtp = geodesics_pvtp::solve(&mesh, &sources, &options)
+                .unwrap()
+                .0
+                .distance;
+            let a = avtp_on(&mesh, &sources, lambda, threads);
+            assert!(
+                a.iter().zip(&pvtp).all(|(x, y)| x.to_bits() == y.to_bits()),
+                "{name}: PAVTP {threads:?} with λ = {lambda} differs from PVTP"
+            );
+        }
+    }
+}
+
+#[test]
+fn pavtp_is_deterministic_never_below_exact_and_close_to_avtp() {
+    for (name, mesh) in meshes() {
+        let sources = [
+            Source::Vertex(0),
+            Source::Vertex(mesh.vertex_count() as u32 / 2),
+        ];
+        let e = exact(&mesh, &sources);
+        let tol = 1e-12 * scale(&e);
+        for lambda in [0.5 * min_edge(&mesh) / mean_edge(&mesh), 4.0, 16.0] {
+            let g: Vec<f64> = {
+                let (a, b) = (
+                    edge_graph_distances(&mesh, 0),
+                    edge_graph_distances(&mesh, mesh.vertex_count() as u32 / 2),
+                );
+                a.iter().zip(&b).map(|(x, y)| x.min(*y)).collect()
+            };
+            let mean_err = |a: &[f64]| {
+                let (mut sum, mut n) = (0.0, 0);
+                for v in 0..e.len() {
+                    if e[v] > 0.0 && e[v].is_finite() {
+                        sum += (a[v] - e[v]) / e[v];
+                        n += 1;
+                    }
+                }
+                sum / f64::from(n)
+            };
+            let sequential = mean_err(&avtp(&mesh, &sources, lambda));
+            for threads in PARALLEL {
+                let a = avtp_on(&mesh, &sources, lambda, threads);
+                let again = avtp_on(&mesh, &sources, lambda, threads);
+                assert!(
+                    a.iter()
+                        .zip(&again)
+                        .all(|(x, y)| x.to_bits() == y.to_bits()),
+                    "{name} λ = {lambda} {threads:?}: two runs differ"
+                );
+                for v in 0..e.len() {
+                    assert!(
+                        a[v] >= e[v] - tol,
+                        "{name} λ = {lambda} {threads:?} vertex {v}: below exact"
+                    );
+                    assert!(
+                        a[v] <= g[v] + tol,
+                        "{name} λ = {lambda} {threads:?} vertex {v}: above Dijkstra"
+                    );
+                }
+                let parallel = mean_err(&a);
+                eprintln!(
+                    "{name} λ = {lambda:.3}: mean error AVTP {sequential:.2e}, PAVTP {threads:?} {parallel:.2e}"
+                );
+                // The reset happens between rounds instead of between
+                // vertices: the same accuracy, give or take.
+                assert!(
+                    parallel <= 2.0 * sequential + 1e-12,
+                    "{name} λ = {lambda} {threads:?}: PAVTP error {parallel:e} vs AVTP {sequential:e}"
+                );
+            }
         }
     }
 }

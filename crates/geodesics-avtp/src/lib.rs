@@ -24,6 +24,11 @@
 //! All reset state belongs to the solve: the mesh is never marked, so solves
 //! from other sources on the same mesh are unaffected.
 //!
+//! **PAVTP**: with [`AvtpOptions::threads`] set, the same reset runs on top
+//! of parallel VTP (`geodesics-pvtp`), between its rounds; the result is
+//! deterministic for a given thread count (and, like AVTP, never below
+//! exact).
+//!
 //! # Example
 //!
 //! ```
@@ -46,6 +51,7 @@ pub use geodesics_vtp::WindowReset;
 pub use geodesics_window::{DistanceField, Source, Stats};
 
 use geodesics_mesh::Mesh;
+use geodesics_pvtp::{PvtpError, PvtpOptions};
 use geodesics_vtp::{VtpError, VtpOptions};
 
 /// Why an AVTP solve was refused.
@@ -55,6 +61,9 @@ pub enum AvtpError {
     /// (it names the source or parameter).
     #[error(transparent)]
     Vtp(#[from] VtpError),
+    /// The same, from the parallel solve (PAVTP).
+    #[error(transparent)]
+    Pvtp(#[from] PvtpError),
 }
 
 /// Settings of an AVTP solve.
@@ -69,6 +78,9 @@ pub struct AvtpOptions {
     pub lambda_g: f64,
     /// Stop the wavefront beyond this distance (farther vertices are ∞).
     pub max_distance: Option<f64>,
+    /// `None`: sequential AVTP. `Some(T)`: PAVTP on a pool of `T` threads
+    /// (`0`: every logical CPU).
+    pub threads: Option<usize>,
 }
 
 impl AvtpOptions {
@@ -78,6 +90,7 @@ impl AvtpOptions {
             lambda,
             lambda_g: WindowReset::DEFAULT_LAMBDA_G,
             max_distance: None,
+            threads: None,
         }
     }
 }
@@ -90,14 +103,19 @@ impl Default for AvtpOptions {
 }
 
 impl AvtpOptions {
-    /// The exact-VTP options that run this AVTP.
+    /// The reset these options ask for.
+    pub fn reset(&self) -> WindowReset {
+        WindowReset {
+            lambda: self.lambda,
+            lambda_g: self.lambda_g,
+        }
+    }
+
+    /// The VTP options that run this AVTP sequentially.
     pub fn vtp_options(&self) -> VtpOptions {
         VtpOptions {
             max_distance: self.max_distance,
-            reset: Some(WindowReset {
-                lambda: self.lambda,
-                lambda_g: self.lambda_g,
-            }),
+            reset: Some(self.reset()),
             ..VtpOptions::default()
         }
     }
@@ -110,7 +128,17 @@ pub fn solve(
     sources: &[Source],
     options: &AvtpOptions,
 ) -> Result<(DistanceField, Stats), AvtpError> {
-    Ok(geodesics_vtp::solve(mesh, sources, &options.vtp_options())?)
+    match options.threads {
+        None => Ok(geodesics_vtp::solve(mesh, sources, &options.vtp_options())?),
+        Some(threads) => {
+            let pvtp = PvtpOptions {
+                threads,
+                max_distance: options.max_distance,
+                reset: Some(options.reset()),
+            };
+            Ok(geodesics_pvtp::solve(mesh, sources, &pvtp)?)
+        }
+    }
 }
 
 #[cfg(test)]
@@ -129,7 +157,7 @@ mod tests {
             let options = AvtpOptions {
                 lambda,
                 lambda_g,
-                max_distance: None,
+                ..AvtpOptions::default()
             };
             let err = solve(&mesh, &[Source::Vertex(0)], &options).unwrap_err();
             assert!(err.to_string().contains("lambda"), "{err}");

@@ -72,6 +72,16 @@ pub enum PvtpError {
     /// The maximum distance is NaN or negative.
     #[error("maximum distance {0} must be a non-negative number")]
     MaxDistance(f64),
+    /// The PAVTP reset parameters are not usable.
+    #[error(
+        "window reset needs a finite lambda > 0 and a finite lambda_g >= 0 (got lambda {lambda}, lambda_g {lambda_g})"
+    )]
+    Reset {
+        /// λ given.
+        lambda: f64,
+        /// λ_g given.
+        lambda_g: f64,
+    },
     /// The thread pool could not be created.
     #[error("cannot start a pool of {threads} threads: {message}")]
     ThreadPool {

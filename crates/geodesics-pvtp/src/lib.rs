@@ -59,7 +59,7 @@ mod error;
 mod solver;
 
 pub use error::PvtpError;
-pub use geodesics_window::{DistanceField, Source, Stats};
+pub use geodesics_window::{DistanceField, Source, Stats, WindowReset};
 
 use std::time::Instant;
 
@@ -76,6 +76,9 @@ pub struct PvtpOptions {
     /// Stop the wavefront beyond this distance; vertices farther away are
     /// reported unreachable (`f64::INFINITY`).
     pub max_distance: Option<f64>,
+    /// PAVTP (approximate): AVTP's window reset on top of PVTP, between
+    /// rounds. `None` (the default) is exact PVTP.
+    pub reset: Option<WindowReset>,
 }
 
 /// Computes exact geodesic distances from `sources` to every vertex of
@@ -267,6 +270,7 @@ mod tests {
         let options = PvtpOptions {
             threads: 2,
             max_distance: Some(1.0),
+            reset: None,
         };
         let (field, _) = solve(&mesh, &[Source::Vertex(0)], &options).unwrap();
         for (v, d) in field.distance.iter().enumerate() {

@@ -37,7 +37,7 @@ use geodesics_window::prune::{
     PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
-    DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window,
+    DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, WindowReset,
 };
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -548,6 +548,15 @@ pub(crate) struct Solver<'a> {
     live: u64,
     stats: Stats,
     parallel_seconds: f64,
+    /// PAVTP: the reset settings, the distance of the next reset, the
+    /// vertices given a distance while outside (the wavefront, with stale
+    /// entries), the last reset that made each vertex a pseudo-source.
+    reset: Option<WindowReset>,
+    next_reset: Option<f64>,
+    front: Vec<u32>,
+    reset_round: Vec<u32>,
+    resets: u32,
+    mean_edge: f64,
 }
 
 impl<'a> Solver<'a> {
@@ -677,6 +686,16 @@ impl<'a> Solver<'a> {
             live: 0,
             stats: Stats::default(),
             parallel_seconds: 0.0,
+            reset: options.reset,
+            next_reset: options.reset.map(|r| r.lambda * mesh.average_edge_length()),
+            front: Vec::new(),
+            reset_round: if options.reset.is_some() {
+                vec![0; nv]
+            } else {
+                Vec::new()
+            },
+            resets: 0,
+            mean_edge: mesh.average_edge_length(),
         }
     }
 
@@ -799,6 +818,12 @@ impl<'a> Solver<'a> {
     #[inline]
     fn set_dist(&mut self, v: u32, d: f64, s: u32) {
         let vi = v as usize;
+        if self.next_reset.is_some()
+            && self.verts[vi].dist == f64::INFINITY
+            && !self.verts[vi].inside
+        {
+            self.front.push(v);
+        }
         let x = &mut self.verts[vi];
         x.dist = d;
         x.src = s;
@@ -926,6 +951,11 @@ impl<'a> Solver<'a> {
             {
                 break;
             }
+            if let Some(next) = self.next_reset
+                && d > next
+            {
+                self.reset_windows(d);
+            }
             self.buckets.pop();
             let vi = v as usize;
             let x = self.verts[vi];
@@ -950,6 +980,56 @@ impl<'a> Solver<'a> {
                 lists += self.emit(v);
             }
         }
+    }
+
+    /// PAVTP: AVTP's window reset (Algorithm 3 of Du et al., lines 6-14)
+    /// between rounds: the wavefront passed the next multiple of λh, so every
+    /// wavefront vertex within the guard band beyond it becomes a
+    /// pseudo-source and the windows waiting between two such vertices are
+    /// deleted. The same rule as `geodesics-vtp`'s sequential AVTP.
+    fn reset_windows(&mut self, d: f64) {
+        let Some(reset) = self.reset else {
+            return;
+        };
+        let mesh = self.mesh;
+        let step = reset.lambda * self.mean_edge;
+        let steps = (d / step).floor();
+        self.next_reset = Some((steps + 1.0) * step);
+        let guard = steps * step + reset.lambda_g * self.mean_edge;
+        self.resets += 1;
+        let round = self.resets;
+        let verts = &self.verts;
+        self.front.retain(|&v| !verts[v as usize].inside);
+        let front = std::mem::take(&mut self.front);
+        for &v in &front {
+            if self.verts[v as usize].dist <= guard {
+                self.reset_round[v as usize] = round;
+                self.force_pseudo(v);
+            }
+        }
+        let mut dropped = 0u64;
+        for &v in &front {
+            if self.reset_round[v as usize] != round {
+                continue;
+            }
+            for h in mesh.outgoing(v) {
+                let p = Mesh::prev(h);
+                for (e, other) in [(h, mesh.head(h)), (p, mesh.tail(p))] {
+                    if self.reset_round[other as usize] != round {
+                        continue;
+                    }
+                    for t in std::iter::once(e).chain(mesh.twin(e)) {
+                        let mut pair = lock(&self.lists[t as usize]);
+                        for list in pair.iter_mut() {
+                            dropped += list.len() as u64;
+                            list.clear();
+                        }
+                    }
+                }
+            }
+        }
+        self.live = self.live.saturating_sub(dropped);
+        self.front = front;
     }
 
     /// Pseudo-source `v`: the jobs of its faces relax its neighbours along
@@ -1102,6 +1182,14 @@ pub(crate) fn validate(
         && !(m >= 0.0)
     {
         return Err(PvtpError::MaxDistance(m));
+    }
+    if let Some(r) = options.reset
+        && !(r.lambda > 0.0 && r.lambda.is_finite() && r.lambda_g >= 0.0 && r.lambda_g.is_finite())
+    {
+        return Err(PvtpError::Reset {
+            lambda: r.lambda,
+            lambda_g: r.lambda_g,
+        });
     }
     let tol = Tolerance::for_mesh(mesh);
     for (source_index, s) in sources.iter().enumerate() {

@@ -93,7 +93,7 @@ mod path;
 mod solver;
 
 pub use error::VtpError;
-pub use geodesics_window::{DistanceField, Source, Stats};
+pub use geodesics_window::{DistanceField, Source, Stats, WindowReset};
 pub use geodesics_window::{GeodesicPath, SurfacePoint};
 pub use path::{PathError, shortest_path, trace_path};
 
@@ -203,41 +203,6 @@ pub struct VtpOptions {
     /// passes a multiple of `lambda` mean edge lengths. `None` (the
     /// default) is exact VTP.
     pub reset: Option<WindowReset>,
-}
-
-/// The window reset of AVTP (Du et al. 2021, Algorithm 3): each time the
-/// wavefront passes a multiple of `λ·h` (h the mean edge length), the
-/// windows waiting between wavefront vertices closer than `λ_g·h` beyond
-/// that radius are deleted and those vertices restart the front as point
-/// sources.
-///
-/// Every distance is still the length of a real path on the surface, so it
-/// is never below the exact one. With `λ·h` beyond the largest distance no
-/// reset happens and the result is exact VTP's, bit for bit. As `λ·h`
-/// shrinks below the edge lengths every vertex restarts the front: the
-/// result tends to distances along edges, shortened where a window from a
-/// restarted vertex crosses one face (between the exact distance and the
-/// edge-graph Dijkstra distance).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WindowReset {
-    /// Reset radius step, in mean edge lengths (λ).
-    pub lambda: f64,
-    /// Guard band, in mean edge lengths (λ_g): wavefront vertices farther
-    /// than this beyond the reset radius keep their windows.
-    pub lambda_g: f64,
-}
-
-impl WindowReset {
-    /// The guard band the authors' code uses.
-    pub const DEFAULT_LAMBDA_G: f64 = 8.0;
-
-    /// A reset every `lambda` mean edge lengths, with the default guard.
-    pub fn every(lambda: f64) -> WindowReset {
-        WindowReset {
-            lambda,
-            lambda_g: Self::DEFAULT_LAMBDA_G,
-        }
-    }
 }
 
 /// The paper's named variants (Table 3 and Fig 12 of Qin et al. 2016) as

@@ -182,18 +182,6 @@ fn validate(mesh: &Mesh, sources: &[Source], options: &VtpOptions) -> Result<(),
     Ok(())
 }
 
-/// The mean length of the mesh's edges (each edge once), h in the papers.
-pub(crate) fn mean_edge_length(mesh: &Mesh) -> f64 {
-    let (mut sum, mut count) = (0.0, 0u64);
-    for h in 0..mesh.half_edge_count() as u32 {
-        if mesh.twin(h).is_none_or(|t| t > h) {
-            sum += mesh.length(h);
-            count += 1;
-        }
-    }
-    if count == 0 { 0.0 } else { sum / count as f64 }
-}
-
 /// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
 /// head on +x), assuming `q` lies in the closed face of `h` (so `y ≥ 0`).
 fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
@@ -248,7 +236,7 @@ impl<'a> Solver<'a> {
                 }
             }
         }
-        let mean_edge = mean_edge_length(mesh);
+        let mean_edge = mesh.average_edge_length();
         // Pinch groups: the fan copies of one input vertex.
         let mut group_of = vec![NONE; nv];
         let mut groups: Vec<Vec<u32>> = Vec::new();

@@ -57,5 +57,5 @@ mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
 pub use tolerance::Tolerance;
-pub use types::{DistanceField, NO_SOURCE, Source, Stats};
+pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
 pub use window::{EndedWindow, Triangle, Window};

@@ -75,3 +75,38 @@ pub struct Stats {
     /// Total seconds of the solve.
     pub total_seconds: f64,
 }
+
+/// The window reset of AVTP (Du et al. 2021, Algorithm 3): each time the
+/// wavefront passes a multiple of `λ·h` (h the mean edge length), the
+/// windows waiting between wavefront vertices closer than `λ_g·h` beyond
+/// that radius are deleted and those vertices restart the front as point
+/// sources.
+///
+/// Every distance is still the length of a real path on the surface, so it
+/// is never below the exact one. With `λ·h` beyond the largest distance no
+/// reset happens and the result is the exact solver's, bit for bit. As `λ·h`
+/// shrinks below the edge lengths every vertex restarts the front: the
+/// result tends to distances along edges, shortened where a window from a
+/// restarted vertex crosses one face (between the exact distance and the
+/// edge-graph Dijkstra distance).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WindowReset {
+    /// Reset radius step, in mean edge lengths (λ).
+    pub lambda: f64,
+    /// Guard band, in mean edge lengths (λ_g): wavefront vertices farther
+    /// than this beyond the reset radius keep their windows.
+    pub lambda_g: f64,
+}
+
+impl WindowReset {
+    /// The guard band the authors' code uses.
+    pub const DEFAULT_LAMBDA_G: f64 = 8.0;
+
+    /// A reset every `lambda` mean edge lengths, with the default guard.
+    pub fn every(lambda: f64) -> WindowReset {
+        WindowReset {
+            lambda,
+            lambda_g: Self::DEFAULT_LAMBDA_G,
+        }
+    }
+}

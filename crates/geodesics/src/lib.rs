@@ -108,6 +108,7 @@ impl Algorithm {
         "fwp-mmp",
         "pvtp",
         "avtp",
+        "pavtp",
     ];
 
     /// The paper's name of this algorithm (column headers of the tables);
@@ -115,6 +116,7 @@ impl Algorithm {
     pub fn name(&self) -> &'static str {
         match self {
             Algorithm::Vtp(o) => o.variant_name().unwrap_or("vtp-custom"),
+            Algorithm::Avtp(o) if o.threads.is_some() => "pavtp",
             Algorithm::Avtp(_) => "avtp",
             Algorithm::Mmp(o) => match o.schedule {
                 geodesics_mmp::Schedule::PriorityQueue => "mmp",
@@ -154,6 +156,10 @@ impl Algorithm {
         match &mut self {
             Algorithm::Pvtp(o) => {
                 o.threads = threads;
+                Ok(self)
+            }
+            Algorithm::Avtp(o) if o.threads.is_some() => {
+                o.threads = Some(threads);
                 Ok(self)
             }
             other => Err(Error::NoSuchSetting {
@@ -197,6 +203,10 @@ impl FromStr for Algorithm {
         }
         match name_lower.as_str() {
             "avtp" => Ok(Algorithm::Avtp(AvtpOptions::default())),
+            "pavtp" => Ok(Algorithm::Avtp(AvtpOptions {
+                threads: Some(0),
+                ..AvtpOptions::default()
+            })),
             "pvtp" => Ok(Algorithm::Pvtp(PvtpOptions::default())),
             "mmp" | "fwp-mmp" => Ok(Algorithm::Mmp(MmpOptions {
                 schedule: if name_lower == "mmp" {
@@ -276,7 +286,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-mmp, vtp-ch, \
-             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, pvtp, avtp)"
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, pvtp, avtp, pavtp)"
         );
     }
 
