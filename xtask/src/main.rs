@@ -9,6 +9,9 @@
 //!   `--large` adds a second Loop step (1.1 M faces).
 //! - `cargo xtask avtp [--runs N] [--large]`: AVTP's accuracy/speed table,
 //!   λ from 2 to 128 against exact VTP in the same run, on the same meshes.
+//! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
+//!   up to the machine's CPUs, against VTP in the same run, on the
+//!   Loop-subdivided bunny and the welded dragon.
 //! - `cargo xtask tables [--runs N]`: every algorithm on `bunny.off` and
 //!   `armadillo.obj` (Tables 1 and 3 of the VTP paper): time, propagations
 //!   and peak window memory, with ratios to VTP from the same run.
@@ -24,6 +27,7 @@ use std::process::Command;
 use std::time::Instant;
 
 mod avtp;
+mod pvtp;
 mod tables;
 
 use anyhow::{Context, Result, bail};
@@ -33,7 +37,7 @@ fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(command) = args.first() else {
         eprintln!(
-            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | tables [--runs N] | load [--runs N]"
+            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] | load [--runs N]"
         );
         return Ok(());
     };
@@ -42,8 +46,9 @@ fn main() -> Result<()> {
         "bench" => bench(runs, args.iter().any(|a| a == "--large")),
         "avtp" => avtp::table(runs, args.iter().any(|a| a == "--large")),
         "tables" => tables::table(runs),
+        "pvtp" => pvtp::table(runs, args.iter().any(|a| a == "--large")),
         "load" => load(runs),
-        other => bail!("unknown xtask command `{other}` (try: bench, avtp, tables, load)"),
+        other => bail!("unknown xtask command `{other}` (try: bench, avtp, pvtp, tables, load)"),
     }
 }
 
