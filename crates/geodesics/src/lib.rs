@@ -27,6 +27,7 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use geodesics_avtp::{AvtpError, AvtpOptions};
+pub use geodesics_ich::{IchError, IchOptions};
 pub use geodesics_io as io;
 pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
 pub use geodesics_mmp::{MmpError, MmpOptions};
@@ -53,6 +54,9 @@ pub enum Error {
     /// The PVTP solver refused its input.
     #[error(transparent)]
     Pvtp(#[from] PvtpError),
+    /// The ICH solver refused its input.
+    #[error(transparent)]
+    Ich(#[from] IchError),
     /// A VTP path could not be traced.
     #[error(transparent)]
     Path(#[from] PathError),
@@ -89,6 +93,9 @@ pub enum Algorithm {
     /// Parallel VTP (Du et al. 2021), exact and deterministic per thread
     /// count.
     Pvtp(PvtpOptions),
+    /// ICH (Xin and Wang 2009), exact, with a window priority queue or FWP's
+    /// distance buckets (FWP-CH).
+    Ich(IchOptions),
 }
 
 impl Algorithm {
@@ -106,6 +113,8 @@ impl Algorithm {
         "vtp-no-rules23",
         "mmp",
         "fwp-mmp",
+        "ich",
+        "fwp-ch",
         "pvtp",
         "avtp",
         "pavtp",
@@ -123,6 +132,10 @@ impl Algorithm {
                 geodesics_mmp::Schedule::Fwp => "fwp-mmp",
             },
             Algorithm::Pvtp(_) => "pvtp",
+            Algorithm::Ich(o) => match o.schedule {
+                geodesics_ich::Schedule::PriorityQueue => "ich",
+                geodesics_ich::Schedule::Fwp => "fwp-ch",
+            },
         }
     }
 
@@ -176,6 +189,7 @@ impl Algorithm {
             Algorithm::Avtp(o) => o.max_distance = max_distance,
             Algorithm::Mmp(o) => o.max_distance = max_distance,
             Algorithm::Pvtp(o) => o.max_distance = max_distance,
+            Algorithm::Ich(o) => o.max_distance = max_distance,
         }
         self
     }
@@ -208,6 +222,8 @@ impl FromStr for Algorithm {
                 ..AvtpOptions::default()
             })),
             "pvtp" => Ok(Algorithm::Pvtp(PvtpOptions::default())),
+            "ich" => Ok(Algorithm::Ich(IchOptions::ich())),
+            "fwp-ch" => Ok(Algorithm::Ich(IchOptions::fwp_ch())),
             "mmp" | "fwp-mmp" => Ok(Algorithm::Mmp(MmpOptions {
                 schedule: if name_lower == "mmp" {
                     geodesics_mmp::Schedule::PriorityQueue
@@ -235,6 +251,7 @@ pub fn compute(
         Algorithm::Avtp(options) => Ok(geodesics_avtp::solve(mesh, sources, options)?),
         Algorithm::Mmp(options) => Ok(geodesics_mmp::solve(mesh, sources, options)?),
         Algorithm::Pvtp(options) => Ok(geodesics_pvtp::solve(mesh, sources, options)?),
+        Algorithm::Ich(options) => Ok(geodesics_ich::solve(mesh, sources, options)?),
     }
 }
 
@@ -286,7 +303,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-mmp, vtp-ch, \
-             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, pvtp, avtp, pavtp)"
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, ich, fwp-ch, pvtp, avtp, pavtp)"
         );
     }
 

@@ -1,0 +1,552 @@
+//! The window-tree propagation of Chen and Han with Xin and Wang's
+//! improvements, scheduled by a priority queue (ICH) or buckets (FWP-CH).
+
+use std::time::Instant;
+
+use geodesics_mesh::Mesh;
+use geodesics_window::prune::vertex_check;
+use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window};
+use glam::{DVec2, DVec3};
+
+use crate::queue::Queue;
+use crate::rules::{self, Angle, Corners};
+use crate::{IchError, IchOptions, Schedule};
+
+const NONE: u32 = u32::MAX;
+
+/// What waits in the queue.
+#[derive(Clone, Copy, Debug)]
+enum Item {
+    /// A window about to cross a face.
+    Window(Pending),
+    /// A pseudo-source vertex to emit from (if its distance still calls for
+    /// it when popped).
+    Vertex(u32),
+}
+
+/// How a face is crossed (as in `geodesics-vtp`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FaceKind {
+    /// Positive area: the generic one-step propagation.
+    Proper,
+    /// Zero area with two coincident corners (a zero-length edge): the two
+    /// long edges are the same segment, so a window entering through one
+    /// leaves through the other unchanged (identical frames).
+    Zipper,
+    /// Any other zero-area face: windows stop there; its corners are
+    /// pseudo-sources and distances relax along its edges.
+    Blocked,
+}
+
+/// A window waiting in the queue.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    w: Window,
+    /// The half-edge it lies on (it is about to cross that half-edge's face).
+    h: u32,
+    /// Whether the corner of the face behind it (opposite its half-edge's
+    /// twin) may filter it when popped: it then lies on the source side in
+    /// the configuration of [`vertex_check`]. False for the windows a point
+    /// source puts on the edges of its own face, whose source is inside
+    /// that face.
+    third: bool,
+}
+
+struct Solver<'a> {
+    mesh: &'a Mesh,
+    options: &'a IchOptions,
+    tol: Tolerance,
+    /// Per half-edge: the opposite corner in the half-edge's frame.
+    apex: Vec<DVec2>,
+    kind: Vec<FaceKind>,
+    /// Per half-edge: Chen and Han's angle record (one angle one split).
+    angle: Vec<Angle>,
+    dist: Vec<f64>,
+    src: Vec<u32>,
+    pseudo: Vec<bool>,
+    /// Per vertex: distance at which it last emitted pseudo-source windows.
+    emitted: Vec<f64>,
+    /// Per vertex: index into `groups` of its pinch group, or NONE.
+    group_of: Vec<u32>,
+    groups: Vec<Vec<u32>>,
+    queue: Queue<Item>,
+    /// Windows in the queue.
+    live: u64,
+    stats: Stats,
+}
+
+pub(crate) fn solve(
+    mesh: &Mesh,
+    sources: &[Source],
+    options: &IchOptions,
+) -> Result<(DistanceField, Stats), IchError> {
+    let start = Instant::now();
+    validate(mesh, sources, options)?;
+    let mut s = Solver::new(mesh, options);
+    for (i, source) in sources.iter().enumerate() {
+        s.seed(i as u32, source);
+    }
+    s.run();
+    let mut stats = std::mem::take(&mut s.stats);
+    let field = s.finish();
+    stats.total_seconds = start.elapsed().as_secs_f64();
+    stats.peak_window_bytes = stats.peak_live_windows * std::mem::size_of::<Window>() as u64;
+    Ok((field, stats))
+}
+
+fn validate(mesh: &Mesh, sources: &[Source], options: &IchOptions) -> Result<(), IchError> {
+    if sources.is_empty() {
+        return Err(IchError::NoSources);
+    }
+    if let Some(m) = options.max_distance
+        && !(m >= 0.0)
+    {
+        return Err(IchError::MaxDistance(m));
+    }
+    let tol = Tolerance::for_mesh(mesh);
+    for (source_index, s) in sources.iter().enumerate() {
+        match *s {
+            Source::Vertex(vertex) => {
+                if vertex as usize >= mesh.input_vertex_count() {
+                    return Err(IchError::VertexOutOfRange {
+                        source_index,
+                        vertex,
+                        vertices: mesh.input_vertex_count(),
+                    });
+                }
+                if !mesh.is_referenced(vertex) {
+                    return Err(IchError::UnreferencedVertex {
+                        source_index,
+                        vertex,
+                    });
+                }
+            }
+            Source::EdgePoint { half_edge, t } => {
+                if half_edge as usize >= mesh.half_edge_count() {
+                    return Err(IchError::HalfEdgeOutOfRange {
+                        source_index,
+                        half_edge,
+                        half_edges: mesh.half_edge_count(),
+                    });
+                }
+                if !(0.0..=1.0).contains(&t) {
+                    return Err(IchError::EdgeParameter { source_index, t });
+                }
+            }
+            Source::FacePoint { face, barycentric } => {
+                if face as usize >= mesh.face_count() {
+                    return Err(IchError::FaceOutOfRange {
+                        source_index,
+                        face,
+                        faces: mesh.face_count(),
+                    });
+                }
+                let ok = barycentric.iter().all(|b| b.is_finite() && *b >= 0.0)
+                    && (barycentric.iter().sum::<f64>() - 1.0).abs() <= tol.relative;
+                if !ok {
+                    return Err(IchError::Barycentric {
+                        source_index,
+                        barycentric,
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
+/// head on +x), assuming `q` lies in the closed face of `h` (so `y ≥ 0`).
+fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
+    let t = mesh.position(mesh.tail(h));
+    let e = mesh.position(mesh.head(h)) - t;
+    let l = mesh.length(h);
+    if l <= 0.0 {
+        return DVec2::ZERO;
+    }
+    let r = q - t;
+    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
+}
+
+/// The width of FWP's buckets: the mean edge length (Xu et al. 2015), or
+/// the mesh scale if that is not a positive number.
+fn bucket_width(mesh: &Mesh) -> f64 {
+    let h = mesh.average_edge_length();
+    if h.is_finite() && h > 0.0 {
+        h
+    } else {
+        let d = mesh.bbox_diagonal();
+        if d.is_finite() && d > 0.0 { d } else { 1.0 }
+    }
+}
+
+impl<'a> Solver<'a> {
+    fn new(mesh: &'a Mesh, options: &'a IchOptions) -> Self {
+        let tol = Tolerance::for_mesh(mesh);
+        let nh = mesh.half_edge_count();
+        let nf = mesh.face_count();
+        let nv = mesh.vertex_count();
+        let apex: Vec<DVec2> = (0..nh as u32)
+            .map(|h| frame_coords(mesh, h, mesh.position(mesh.opposite_vertex(h))))
+            .collect();
+        let mut kind = Vec::with_capacity(nf);
+        for f in 0..nf {
+            let hs = [3 * f, 3 * f + 1, 3 * f + 2];
+            let proper = hs
+                .iter()
+                .all(|&h| apex[h].y > 0.0 && mesh.length(h as u32) > 0.0);
+            let zeros = hs.iter().filter(|&&h| mesh.length(h as u32) == 0.0).count();
+            kind.push(if proper {
+                FaceKind::Proper
+            } else if zeros == 1 {
+                FaceKind::Zipper
+            } else {
+                FaceKind::Blocked
+            });
+        }
+        // Pseudo-sources: boundary vertices, saddles and flat vertices (a
+        // geodesic may pass through them), corners of zero-area faces.
+        let mut pseudo: Vec<bool> = (0..nv as u32)
+            .map(|v| mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v)))
+            .collect();
+        for (f, k) in kind.iter().enumerate() {
+            if *k != FaceKind::Proper {
+                for v in mesh.face(f as u32) {
+                    pseudo[v as usize] = true;
+                }
+            }
+        }
+        // Pinch groups: the fan copies of one input vertex share a distance
+        // and are all pseudo-sources, so geodesics pass through the pinch.
+        let mut group_of = vec![NONE; nv];
+        let mut groups: Vec<Vec<u32>> = Vec::new();
+        for v in mesh.input_vertex_count()..nv {
+            let o = mesh.pinch_origin(v as u32);
+            if group_of[o as usize] == NONE {
+                group_of[o as usize] = groups.len() as u32;
+                groups.push(vec![o]);
+            }
+            let g = group_of[o as usize];
+            group_of[v] = g;
+            groups[g as usize].push(v as u32);
+        }
+        for g in &groups {
+            for &v in g {
+                pseudo[v as usize] = true;
+            }
+        }
+        let queue = match options.schedule {
+            Schedule::PriorityQueue => Queue::heap(),
+            Schedule::Fwp => Queue::buckets(bucket_width(mesh)),
+        };
+        Solver {
+            mesh,
+            options,
+            tol,
+            apex,
+            kind,
+            angle: vec![Angle::EMPTY; nh],
+            dist: vec![f64::INFINITY; nv],
+            src: vec![NO_SOURCE; nv],
+            pseudo,
+            emitted: vec![f64::INFINITY; nv],
+            group_of,
+            groups,
+            queue,
+            live: 0,
+            stats: Stats::default(),
+        }
+    }
+
+    // ---------------------------------------------------------------- seeds
+
+    fn seed(&mut self, i: u32, source: &Source) {
+        let mesh = self.mesh;
+        match *source {
+            Source::Vertex(v) => self.seed_vertex(i, v),
+            Source::EdgePoint { half_edge: h, t } => {
+                if t == 0.0 {
+                    return self.seed_vertex(i, mesh.tail(h));
+                }
+                if t == 1.0 {
+                    return self.seed_vertex(i, mesh.head(h));
+                }
+                let a = mesh.position(mesh.tail(h));
+                let b = mesh.position(mesh.head(h));
+                let q = a + (b - a) * t;
+                // Paths along the edge line may continue through its ends.
+                for v in [mesh.tail(h), mesh.head(h)] {
+                    self.force_pseudo(v);
+                }
+                self.seed_point_in_face(i, Mesh::face_of(h), q);
+                if let Some(t) = mesh.twin(h) {
+                    self.seed_point_in_face(i, Mesh::face_of(t), q);
+                }
+            }
+            Source::FacePoint { face, barycentric } => {
+                let c = mesh.face(face).map(|v| mesh.position(v));
+                let s: f64 = barycentric.iter().sum();
+                let q = (c[0] * barycentric[0] + c[1] * barycentric[1] + c[2] * barycentric[2]) / s;
+                let zeros = barycentric.iter().filter(|&&b| b == 0.0).count();
+                if zeros == 2 {
+                    let k = barycentric.iter().position(|&b| b != 0.0).unwrap_or(0);
+                    return self.seed_vertex(i, mesh.face(face)[k]);
+                }
+                if zeros == 1 {
+                    // On an edge: seed both faces of that edge.
+                    let k = barycentric.iter().position(|&b| b == 0.0).unwrap_or(0);
+                    let (i1, i2) = ((k + 1) % 3, (k + 2) % 3);
+                    let t = barycentric[i2] / (barycentric[i1] + barycentric[i2]);
+                    let half_edge = 3 * face + i1 as u32;
+                    return self.seed(i, &Source::EdgePoint { half_edge, t });
+                }
+                if self.kind[face as usize] != FaceKind::Proper {
+                    for v in mesh.face(face) {
+                        self.force_pseudo(v);
+                    }
+                }
+                self.seed_point_in_face(i, face, q);
+            }
+        }
+    }
+
+    fn force_pseudo(&mut self, v: u32) {
+        self.pseudo[v as usize] = true;
+        let g = self.group_of[v as usize];
+        if g != NONE {
+            for k in 0..self.groups[g as usize].len() {
+                let u = self.groups[g as usize][k];
+                self.pseudo[u as usize] = true;
+            }
+        }
+    }
+
+    fn seed_vertex(&mut self, i: u32, v: u32) {
+        self.force_pseudo(v);
+        self.relax(v, 0.0, i);
+    }
+
+    /// A point source `q` in the closed face `f`: one window with source `q`
+    /// on each edge of `f` not containing `q`, lighting the next face; the
+    /// corners get their straight distances.
+    fn seed_point_in_face(&mut self, i: u32, f: u32, q: DVec3) {
+        let mesh = self.mesh;
+        for h in 3 * f..3 * f + 3 {
+            let v = mesh.tail(h);
+            self.relax(v, mesh.position(v).distance(q), i);
+        }
+        if self.kind[f as usize] != FaceKind::Proper {
+            return;
+        }
+        for h in 3 * f..3 * f + 3 {
+            let Some(t) = mesh.twin(h) else { continue };
+            let c = frame_coords(mesh, h, q);
+            let l = mesh.length(h);
+            if c.y > 0.0 {
+                let w = Window {
+                    b0: 0.0,
+                    b1: l,
+                    p: DVec2::new(l - c.x, -c.y),
+                    sigma: 0.0,
+                    source: i,
+                };
+                self.stats.windows_created += 1;
+                self.push_window(w, t, false);
+            }
+        }
+    }
+
+    // ------------------------------------------------------------ distances
+
+    /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter.
+    #[inline]
+    fn relax(&mut self, v: u32, d: f64, s: u32) {
+        if !(d < self.dist[v as usize]) {
+            return;
+        }
+        self.set_dist(v, d, s);
+        let g = self.group_of[v as usize];
+        if g != NONE {
+            for k in 0..self.groups[g as usize].len() {
+                let u = self.groups[g as usize][k];
+                if u != v && d < self.dist[u as usize] {
+                    self.set_dist(u, d, s);
+                }
+            }
+        }
+    }
+
+    #[inline]
+    fn set_dist(&mut self, v: u32, d: f64, s: u32) {
+        let vi = v as usize;
+        self.dist[vi] = d;
+        self.src[vi] = s;
+        // A pseudo-source (re-)emits when it is first reached and whenever
+        // its distance drops by more than the tolerance after that.
+        if self.pseudo[vi] && self.should_emit(vi, d) {
+            self.queue.push(d, Item::Vertex(v));
+        }
+    }
+
+    #[inline]
+    fn should_emit(&self, v: usize, d: f64) -> bool {
+        let e = self.emitted[v];
+        e == f64::INFINITY || self.tol.beats(d, e)
+    }
+
+    // ------------------------------------------------------------ windows
+
+    #[inline]
+    fn push_window(&mut self, w: Window, h: u32, third: bool) {
+        self.live += 1;
+        if self.live > self.stats.peak_live_windows {
+            self.stats.peak_live_windows = self.live;
+        }
+        let key = rules::min_distance(&w);
+        self.queue.push(key, Item::Window(Pending { w, h, third }));
+    }
+
+    // ------------------------------------------------------------ main loop
+
+    fn run(&mut self) {
+        let sorted = self.queue.is_sorted();
+        while let Some((key, item)) = self.queue.pop() {
+            let beyond = self.options.max_distance.is_some_and(|m| key > m);
+            if beyond && sorted {
+                break;
+            }
+            match item {
+                Item::Vertex(v) => {
+                    let d = self.dist[v as usize];
+                    if !beyond && self.should_emit(v as usize, d) {
+                        self.stats.vertex_pops += 1;
+                        self.emit(v);
+                    }
+                }
+                Item::Window(p) => {
+                    self.live -= 1;
+                    if !beyond {
+                        self.propagate(p);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Pseudo-source `v`: relax its neighbours along edges and put one
+    /// full-edge window with source `v` on each edge opposite it (Xin and
+    /// Wang; Section 5.2 of Qin et al., "Saddle Vertices").
+    fn emit(&mut self, v: u32) {
+        let mesh = self.mesh;
+        let vi = v as usize;
+        let d = self.dist[vi];
+        let s = self.src[vi];
+        self.emitted[vi] = d;
+        self.stats.pseudo_source_emissions += 1;
+        for h in mesh.outgoing(v) {
+            let p = Mesh::prev(h);
+            self.relax(mesh.head(h), d + mesh.length(h), s);
+            self.relax(mesh.tail(p), d + mesh.length(p), s);
+            if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
+                continue;
+            }
+            let o = Mesh::next(h);
+            let Some(t) = mesh.twin(o) else { continue };
+            let l = mesh.length(o);
+            let c = self.apex[o as usize];
+            let w = Window {
+                b0: 0.0,
+                b1: l,
+                p: DVec2::new(l - c.x, -c.y),
+                sigma: d,
+                source: s,
+            };
+            self.stats.windows_created += 1;
+            self.push_window(w, t, true);
+        }
+    }
+
+    /// Propagates one window through the face of its half-edge.
+    fn propagate(&mut self, pending: Pending) {
+        let Pending { w, h, third } = pending;
+        let mesh = self.mesh;
+        match self.kind[Mesh::face_of(h) as usize] {
+            FaceKind::Proper => {}
+            FaceKind::Zipper => {
+                if mesh.length(h) > 0.0 {
+                    let n = Mesh::next(h);
+                    let other = if mesh.length(n) > 0.0 {
+                        n
+                    } else {
+                        Mesh::prev(h)
+                    };
+                    if let Some(t) = mesh.twin(other) {
+                        self.push_window(w, t, third);
+                    }
+                }
+                return;
+            }
+            FaceKind::Blocked => return,
+        }
+        let n = Mesh::next(h);
+        let p = Mesh::prev(h);
+        let (a, b, c) = (mesh.tail(h), mesh.head(h), mesh.tail(p));
+        let l = mesh.length(h);
+        let corners = Corners {
+            a: self.dist[a as usize],
+            b: self.dist[b as usize],
+            c: self.dist[c as usize],
+        };
+        // The vertex filter again, with the distances known now (they only
+        // drop while the window waits): the ends of its edge and, when the
+        // configuration allows, the corner behind it.
+        let behind = match mesh.twin(h) {
+            Some(t) if third => {
+                let q = self.apex[t as usize];
+                let dq = self.dist[mesh.opposite_vertex(t) as usize];
+                (DVec2::new(l - q.x, -q.y), dq)
+            }
+            _ => (DVec2::ZERO, f64::INFINITY),
+        };
+        if vertex_check(&w, l, corners.a, corners.b, behind.0, behind.1, &self.tol) {
+            return;
+        }
+        let tri = Triangle::with_lengths(l, self.apex[h as usize], mesh.length(p), mesh.length(n));
+        let out = rules::cross(&w, &tri, &mut self.angle[h as usize], corners, &self.tol);
+        self.relax(c, out.apex, w.source);
+        let props = u64::from(out.propagations);
+        self.stats.window_propagations += props;
+        self.stats.windows_created += props;
+        if let (Some(cw), Some(t)) = (out.left, mesh.twin(p)) {
+            self.push_window(cw, t, true);
+        }
+        if let (Some(cw), Some(t)) = (out.right, mesh.twin(n)) {
+            self.push_window(cw, t, true);
+        }
+    }
+
+    fn finish(self) -> DistanceField {
+        let mesh = self.mesh;
+        let n = mesh.input_vertex_count();
+        let mut distance = self.dist[..n].to_vec();
+        let mut nearest_source = self.src[..n].to_vec();
+        for v in n..mesh.vertex_count() {
+            let o = mesh.pinch_origin(v as u32) as usize;
+            if self.dist[v] < distance[o] {
+                distance[o] = self.dist[v];
+                nearest_source[o] = self.src[v];
+            }
+        }
+        for (d, s) in distance.iter_mut().zip(nearest_source.iter_mut()) {
+            let beyond = self.options.max_distance.is_some_and(|m| *d > m);
+            if !d.is_finite() || beyond {
+                *d = f64::INFINITY;
+                *s = NO_SOURCE;
+            }
+        }
+        DistanceField {
+            distance,
+            nearest_source,
+        }
+    }
+}
