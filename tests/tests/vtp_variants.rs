@@ -18,6 +18,12 @@ use serde_json::Value;
 const REL: f64 = 1e-12;
 
 fn check_mesh(key: &str, synthetic: bool) {
+    check_mesh_with(key, synthetic, false);
+}
+
+/// `every_variant_on_the_dragon`: also the variants skipped there by
+/// default (minutes each).
+fn check_mesh_with(key: &str, synthetic: bool, all_variants: bool) {
     let Some(data) = data_dir(&format!("vtp_variants {key}")) else {
         return;
     };
@@ -49,7 +55,7 @@ fn check_mesh(key: &str, synthetic: bool) {
         .distance;
     let tol = REL * max_finite;
     for &(variant, ..) in VARIANTS {
-        if key.starts_with("dragon") && !matches!(variant, "ftp" | "opvtp") {
+        if key.starts_with("dragon") && !all_variants && !matches!(variant, "ftp" | "opvtp") {
             continue;
         }
         let options = VtpOptions::variant(variant).unwrap();
@@ -117,4 +123,13 @@ mesh_tests! {
     grid: "grid101.off", true;
     icosphere: "icosphere4.off", true;
     torus: "torus120x40.off", true;
+}
+
+/// Every variant on the dragon, as stored and welded (run with
+/// `-- --ignored`; about ten minutes).
+#[test]
+#[ignore]
+fn every_variant_on_the_dragon() {
+    check_mesh_with("dragon.ply", false, true);
+    check_mesh_with("dragon.ply.welded", false, true);
 }
