@@ -1,29 +1,13 @@
 //! `cargo xtask avtp`: the accuracy/speed table of AVTP against exact VTP
 //! measured in the same run (Table 1 and Fig 10 of Du et al. 2021).
 
-use std::time::Instant;
-
 use anyhow::Result;
-use geodesics::{Algorithm, AvtpOptions, BuildOptions, DistanceField, Mesh, Source, Stats};
+use geodesics::{Algorithm, AvtpOptions, BuildOptions, Mesh};
 
-use crate::{data_dir, read};
+use crate::{best_of, data_dir, read};
 
 /// λ values of the table.
 const LAMBDAS: [f64; 7] = [2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0];
-
-/// The best of `runs` solves from vertex 0: seconds, field and stats.
-fn best(mesh: &Mesh, algorithm: &Algorithm, runs: usize) -> Result<(f64, DistanceField, Stats)> {
-    let mut best: Option<(f64, DistanceField, Stats)> = None;
-    for _ in 0..runs.max(1) {
-        let t = Instant::now();
-        let (field, stats) = geodesics::compute(mesh, &[Source::Vertex(0)], algorithm)?;
-        let s = t.elapsed().as_secs_f64();
-        if best.as_ref().is_none_or(|(b, _, _)| s < *b) {
-            best = Some((s, field, stats));
-        }
-    }
-    Ok(best.expect("at least one run"))
-}
 
 /// Mean and max relative error of `approx` against `exact` over the
 /// vertices at positive finite distance.
@@ -67,7 +51,7 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (name, soup) in cases {
         let mesh = Mesh::build(soup, &BuildOptions::default())?;
-        let (vtp_s, exact, vtp_stats) = best(&mesh, &Algorithm::default(), runs)?;
+        let (vtp_s, exact, vtp_stats) = best_of(&mesh, &Algorithm::default(), runs)?;
         println!(
             "| {name} | {} | exact VTP | {vtp_s:.3} | 1.0 | {} | 0 | 0 | | | |",
             mesh.face_count(),
@@ -75,13 +59,13 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
         );
         for lambda in LAMBDAS {
             let algorithm = Algorithm::Avtp(AvtpOptions::with_lambda(lambda));
-            let (s, field, stats) = best(&mesh, &algorithm, runs)?;
+            let (s, field, stats) = best_of(&mesh, &algorithm, runs)?;
             let (mean, max) = relative_errors(&field.distance, &exact.distance);
             let parallel = Algorithm::Avtp(AvtpOptions {
                 threads: Some(2),
                 ..AvtpOptions::with_lambda(lambda)
             });
-            let (ps, pfield, _) = best(&mesh, &parallel, runs)?;
+            let (ps, pfield, _) = best_of(&mesh, &parallel, runs)?;
             let (pmean, _) = relative_errors(&pfield.distance, &exact.distance);
             println!(
                 "| {name} | {} | {lambda} | {s:.3} | {:.2} | {} | {mean:.2e} | {max:.2e} | {ps:.3} | {:.2} | {pmean:.2e} |",

@@ -2,26 +2,10 @@
 //! measured in the same run (the scaling table of the PVTP issue), on
 //! meshes of at least 200K faces.
 
-use std::time::Instant;
-
 use anyhow::Result;
-use geodesics::{Algorithm, BuildOptions, Mesh, PvtpOptions, Source, Stats};
+use geodesics::{Algorithm, BuildOptions, Mesh, PvtpOptions};
 
-use crate::{data_dir, read};
-
-/// The best of `runs` solves from vertex 0, with the stats of that run.
-fn best(mesh: &Mesh, algorithm: &Algorithm, runs: usize) -> Result<(f64, Stats)> {
-    let mut best: Option<(f64, Stats)> = None;
-    for _ in 0..runs.max(1) {
-        let t = Instant::now();
-        let (_, stats) = geodesics::compute(mesh, &[Source::Vertex(0)], algorithm)?;
-        let s = t.elapsed().as_secs_f64();
-        if best.as_ref().is_none_or(|(b, _)| s < *b) {
-            best = Some((s, stats));
-        }
-    }
-    Ok(best.expect("at least one run"))
-}
+use crate::{best_of, data_dir, read};
 
 pub fn table(runs: usize, large: bool) -> Result<()> {
     let dir = data_dir()?;
@@ -66,7 +50,7 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
     );
     println!("|---|---:|---|---:|---:|---:|---:|---:|");
     for (name, mesh) in cases {
-        let (vtp_s, vtp) = best(&mesh, &Algorithm::default(), runs)?;
+        let (vtp_s, _, vtp) = best_of(&mesh, &Algorithm::default(), runs)?;
         println!(
             "| {name} | {} | VTP | 1 | {vtp_s:.3} | — | 1.00 | 1.000 |",
             mesh.face_count()
@@ -77,7 +61,10 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
                 threads: t,
                 ..PvtpOptions::default()
             });
-            let (s, st) = best(&mesh, &algorithm, runs)?;
+            let (s, st) = {
+                let (s, _, st) = best_of(&mesh, &algorithm, runs)?;
+                (s, st)
+            };
             let base = *one.get_or_insert(s);
             println!(
                 "| {name} | {} | PVTP | {t} | {s:.3} | {:.2} | {:.2} | {:.3} |",

@@ -3,26 +3,10 @@
 //! al. 2016: time, window propagations and peak window memory, each as a
 //! ratio to VTP measured in the same run.
 
-use std::time::Instant;
-
 use anyhow::Result;
-use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
+use geodesics::{Algorithm, BuildOptions, Mesh};
 
-use crate::{data_dir, read};
-
-/// The best of `runs` solves from vertex 0, with the stats of that run.
-fn best(mesh: &Mesh, algorithm: &Algorithm, runs: usize) -> Result<(f64, Stats)> {
-    let mut best: Option<(f64, Stats)> = None;
-    for _ in 0..runs.max(1) {
-        let t = Instant::now();
-        let (_, stats) = geodesics::compute(mesh, &[Source::Vertex(0)], algorithm)?;
-        let s = t.elapsed().as_secs_f64();
-        if best.as_ref().is_none_or(|(b, _)| s < *b) {
-            best = Some((s, stats));
-        }
-    }
-    Ok(best.expect("at least one run"))
-}
+use crate::{best_of, data_dir, read};
 
 pub fn table(runs: usize) -> Result<()> {
     let dir = data_dir()?;
@@ -34,13 +18,16 @@ pub fn table(runs: usize) -> Result<()> {
             "| algorithm | s | × VTP time | propagations | × VTP propagations | peak windows | peak window KiB |"
         );
         println!("|---|---:|---:|---:|---:|---:|---:|");
-        let (vtp_s, vtp) = best(&mesh, &Algorithm::default(), runs)?;
+        let (vtp_s, _, vtp) = best_of(&mesh, &Algorithm::default(), runs)?;
         for &name in Algorithm::NAMES {
             let algorithm: Algorithm = name.parse()?;
             let (s, st) = if name == "vtp" {
                 (vtp_s, vtp.clone())
             } else {
-                best(&mesh, &algorithm, runs)?
+                {
+                    let (s, _, st) = best_of(&mesh, &algorithm, runs)?;
+                    (s, st)
+                }
             };
             println!(
                 "| {name} | {s:.3} | {:.2} | {} | {:.2} | {} | {:.0} |",

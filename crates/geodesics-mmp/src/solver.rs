@@ -5,7 +5,9 @@ use std::collections::VecDeque;
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
-use geodesics_window::{DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window};
+use geodesics_window::{
+    DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, frame_coords,
+};
 use glam::{DVec2, DVec3};
 
 use crate::trim::{Cone, new_wins, subtract};
@@ -300,19 +302,6 @@ pub(crate) fn validate(
 pub(crate) fn barycentric_ok(b: &[f64; 3], tol: &Tolerance) -> bool {
     b.iter().all(|x| x.is_finite() && *x >= 0.0)
         && (b.iter().sum::<f64>() - 1.0).abs() <= tol.relative
-}
-
-/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
-/// head on +x), assuming `q` lies in the closed face of `h` (so `y ≥ 0`).
-pub(crate) fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
-    let t = mesh.position(mesh.tail(h));
-    let e = mesh.position(mesh.head(h)) - t;
-    let l = mesh.length(h);
-    if l <= 0.0 {
-        return DVec2::ZERO;
-    }
-    let r = q - t;
-    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
 }
 
 /// The point of a source (its position in 3D).

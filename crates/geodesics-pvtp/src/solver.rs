@@ -38,6 +38,7 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, WindowReset,
+    frame_coords,
 };
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -260,19 +261,6 @@ struct Scratch {
     info: Vec<(f64, f64, f64)>,
     /// Emptied list buffers kept to give to lists that start anew.
     stash: Vec<Vec<EndedWindow>>,
-}
-
-/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
-/// head on +x), assuming `q` lies in the closed face of `h` (`y ≥ 0`).
-fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
-    let t = mesh.position(mesh.tail(h));
-    let e = mesh.position(mesh.head(h)) - t;
-    let l = mesh.length(h);
-    if l <= 0.0 {
-        return DVec2::ZERO;
-    }
-    let r = q - t;
-    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
 }
 
 /// One face job: emit the pseudo-source windows of its corners, then

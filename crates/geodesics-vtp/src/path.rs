@@ -25,8 +25,10 @@
 //! by the vertex's angle defect, so only one reaches it).
 
 use geodesics_mesh::Mesh;
-use geodesics_window::{DistanceField, GeodesicPath, Source, SurfacePoint, Tolerance};
-use glam::{DVec2, DVec3};
+use geodesics_window::{
+    DistanceField, GeodesicPath, Source, SurfacePoint, Tolerance, frame_coords,
+};
+use glam::DVec2;
 use thiserror::Error;
 
 use crate::{Provenance, VtpError, VtpOptions, solve_with_provenance};
@@ -240,20 +242,6 @@ enum FaceKind {
 /// Its tail is corner `i` of [`corners`]`(e)`.
 fn he(e: u32, i: usize) -> u32 {
     3 * Mesh::face_of(e) + (e % 3 + i as u32) % 3
-}
-
-/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
-/// head on +x), for `q` in the closed face of `h` (so `y ≥ 0`): the frame
-/// the solver puts windows in.
-fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
-    let t = mesh.position(mesh.tail(h));
-    let e = mesh.position(mesh.head(h)) - t;
-    let l = mesh.length(h);
-    if l <= 0.0 {
-        return DVec2::ZERO;
-    }
-    let r = q - t;
-    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
 }
 
 /// The corners of the face of `e` in `e`'s frame: tail, head, apex
@@ -763,6 +751,7 @@ impl Tracer<'_> {
 mod tests {
     use super::*;
     use geodesics_mesh::{BuildOptions, IndexedTriangles};
+    use glam::DVec3;
 
     fn mesh(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Mesh {
         let soup = IndexedTriangles {

@@ -10,7 +10,7 @@ use geodesics_window::prune::{
     vertex_check_ended,
 };
 use geodesics_window::{
-    DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window,
+    DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, frame_coords,
 };
 use glam::{DVec2, DVec3};
 
@@ -180,19 +180,6 @@ fn validate(mesh: &Mesh, sources: &[Source], options: &VtpOptions) -> Result<(),
         }
     }
     Ok(())
-}
-
-/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
-/// head on +x), assuming `q` lies in the closed face of `h` (so `y ≥ 0`).
-fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
-    let t = mesh.position(mesh.tail(h));
-    let e = mesh.position(mesh.head(h)) - t;
-    let l = mesh.length(h);
-    if l <= 0.0 {
-        return DVec2::ZERO;
-    }
-    let r = q - t;
-    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
 }
 
 impl<'a> Solver<'a> {

@@ -58,4 +58,4 @@ mod window;
 pub use path::{GeodesicPath, SurfacePoint};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
-pub use window::{EndedWindow, Triangle, Window};
+pub use window::{EndedWindow, Triangle, Window, frame_coords};
