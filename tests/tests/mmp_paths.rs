@@ -17,6 +17,7 @@ use geodesics_mmp::{GeodesicPath, MmpError, MmpField, MmpOptions, Schedule, Surf
 use geodesics_shapes::{bumpy_sphere, flat_grid, jittered_flat_grid, jittered_icosphere};
 use geodesics_tests::data_dir;
 use geodesics_vtp::VtpOptions;
+use geodesics_window::SourceError;
 use geodesics_window::{Source, Tolerance};
 use glam::DVec3;
 
@@ -489,11 +490,14 @@ fn errors_name_the_problem() {
     ));
     assert_eq!(
         run(&mesh, &[], &MmpOptions::default()).err(),
-        Some(MmpError::NoSources)
+        Some(MmpError::Source(SourceError::NoSources))
     );
     assert!(matches!(
         run(&mesh, &[Source::Vertex(99)], &MmpOptions::default()).err(),
-        Some(MmpError::VertexOutOfRange { vertex: 99, .. })
+        Some(MmpError::Source(SourceError::VertexOutOfRange {
+            vertex: 99,
+            ..
+        }))
     ));
     assert!(matches!(
         run(
@@ -505,7 +509,7 @@ fn errors_name_the_problem() {
             &MmpOptions::default()
         )
         .err(),
-        Some(MmpError::EdgeParameter { .. })
+        Some(MmpError::Source(SourceError::EdgeParameter { .. }))
     ));
     assert_eq!(
         run(
@@ -517,7 +521,7 @@ fn errors_name_the_problem() {
             }
         )
         .err(),
-        Some(MmpError::MaxDistance(-1.0))
+        Some(MmpError::Source(SourceError::MaxDistance(-1.0)))
     );
     // Beyond the distance limit: unreachable, and no path.
     let near = run(

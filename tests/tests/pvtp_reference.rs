@@ -21,6 +21,7 @@
 //! vertex-0 file of each mesh; the dragon (871k faces) runs vertex 0 only,
 //! per variant, at T = 2 only, once. What is skipped is printed.
 
+use geodesics_window::SourceError;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -397,11 +398,11 @@ fn bad_input_is_an_error() {
     let o = PvtpOptions::default();
     assert_eq!(
         geodesics_pvtp::solve(&mesh, &[], &o),
-        Err(PvtpError::NoSources)
+        Err(PvtpError::Source(SourceError::NoSources))
     );
     assert!(matches!(
         geodesics_pvtp::solve(&mesh, &[Source::Vertex(1000)], &o),
-        Err(PvtpError::VertexOutOfRange { .. })
+        Err(PvtpError::Source(SourceError::VertexOutOfRange { .. }))
     ));
     let m = PvtpOptions {
         max_distance: Some(-1.0),
@@ -409,6 +410,6 @@ fn bad_input_is_an_error() {
     };
     assert!(matches!(
         geodesics_pvtp::solve(&mesh, &[Source::Vertex(0)], &m),
-        Err(PvtpError::MaxDistance(_))
+        Err(PvtpError::Source(SourceError::MaxDistance(_)))
     ));
 }

@@ -8,6 +8,7 @@ use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{bumpy_sphere, flat_grid, jittered_flat_grid, jittered_icosphere};
 use geodesics_tests::edge_graph_distances;
 use geodesics_vtp::{VtpError, VtpOptions, solve};
+use geodesics_window::SourceError;
 use geodesics_window::{NO_SOURCE, Source};
 use glam::DVec3;
 use proptest::prelude::*;
@@ -253,42 +254,42 @@ fn input_errors_never_panic() {
     let mesh = build(soup);
     let o = VtpOptions::default();
     let err = |s: &[Source]| solve(&mesh, s, &o).unwrap_err();
-    assert_eq!(err(&[]), VtpError::NoSources);
+    assert_eq!(err(&[]), VtpError::Source(SourceError::NoSources));
     assert!(matches!(
         err(&[Source::Vertex(99)]),
-        VtpError::VertexOutOfRange { .. }
+        VtpError::Source(SourceError::VertexOutOfRange { .. })
     ));
     assert!(matches!(
         err(&[Source::Vertex(9)]),
-        VtpError::UnreferencedVertex { .. }
+        VtpError::Source(SourceError::UnreferencedVertex { .. })
     ));
     assert!(matches!(
         err(&[Source::EdgePoint {
             half_edge: 999,
             t: 0.5
         }]),
-        VtpError::HalfEdgeOutOfRange { .. }
+        VtpError::Source(SourceError::HalfEdgeOutOfRange { .. })
     ));
     assert!(matches!(
         err(&[Source::EdgePoint {
             half_edge: 0,
             t: 1.5
         }]),
-        VtpError::EdgeParameter { .. }
+        VtpError::Source(SourceError::EdgeParameter { .. })
     ));
     assert!(matches!(
         err(&[Source::EdgePoint {
             half_edge: 0,
             t: f64::NAN
         }]),
-        VtpError::EdgeParameter { .. }
+        VtpError::Source(SourceError::EdgeParameter { .. })
     ));
     assert!(matches!(
         err(&[Source::FacePoint {
             face: 99,
             barycentric: [1.0, 0.0, 0.0]
         }]),
-        VtpError::FaceOutOfRange { .. }
+        VtpError::Source(SourceError::FaceOutOfRange { .. })
     ));
     for bad in [
         [0.5, 0.5, 0.5],
@@ -301,7 +302,7 @@ fn input_errors_never_panic() {
                 face: 0,
                 barycentric: bad
             }]),
-            VtpError::Barycentric { .. }
+            VtpError::Source(SourceError::Barycentric { .. })
         ));
     }
     let neg = VtpOptions {
@@ -310,7 +311,7 @@ fn input_errors_never_panic() {
     };
     assert!(matches!(
         solve(&mesh, &[Source::Vertex(0)], &neg),
-        Err(VtpError::MaxDistance(_))
+        Err(VtpError::Source(SourceError::MaxDistance(_)))
     ));
 }
 

@@ -7,6 +7,7 @@ use geodesics_mesh::Mesh;
 use geodesics_window::prune::vertex_check;
 use geodesics_window::{
     DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, frame_coords,
+    validate_sources,
 };
 use glam::{DVec2, DVec3};
 
@@ -97,63 +98,7 @@ pub(crate) fn solve(
 }
 
 fn validate(mesh: &Mesh, sources: &[Source], options: &IchOptions) -> Result<(), IchError> {
-    if sources.is_empty() {
-        return Err(IchError::NoSources);
-    }
-    if let Some(m) = options.max_distance
-        && !(m >= 0.0)
-    {
-        return Err(IchError::MaxDistance(m));
-    }
-    let tol = Tolerance::for_mesh(mesh);
-    for (source_index, s) in sources.iter().enumerate() {
-        match *s {
-            Source::Vertex(vertex) => {
-                if vertex as usize >= mesh.input_vertex_count() {
-                    return Err(IchError::VertexOutOfRange {
-                        source_index,
-                        vertex,
-                        vertices: mesh.input_vertex_count(),
-                    });
-                }
-                if !mesh.is_referenced(vertex) {
-                    return Err(IchError::UnreferencedVertex {
-                        source_index,
-                        vertex,
-                    });
-                }
-            }
-            Source::EdgePoint { half_edge, t } => {
-                if half_edge as usize >= mesh.half_edge_count() {
-                    return Err(IchError::HalfEdgeOutOfRange {
-                        source_index,
-                        half_edge,
-                        half_edges: mesh.half_edge_count(),
-                    });
-                }
-                if !(0.0..=1.0).contains(&t) {
-                    return Err(IchError::EdgeParameter { source_index, t });
-                }
-            }
-            Source::FacePoint { face, barycentric } => {
-                if face as usize >= mesh.face_count() {
-                    return Err(IchError::FaceOutOfRange {
-                        source_index,
-                        face,
-                        faces: mesh.face_count(),
-                    });
-                }
-                let ok = barycentric.iter().all(|b| b.is_finite() && *b >= 0.0)
-                    && (barycentric.iter().sum::<f64>() - 1.0).abs() <= tol.relative;
-                if !ok {
-                    return Err(IchError::Barycentric {
-                        source_index,
-                        barycentric,
-                    });
-                }
-            }
-        }
-    }
+    validate_sources(mesh, sources, options.max_distance)?;
     Ok(())
 }
 

@@ -4,6 +4,7 @@
 
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{flat_grid, jittered_flat_grid};
+use geodesics_window::SourceError;
 use geodesics_window::{NO_SOURCE, Source};
 use glam::{DVec2, DVec3};
 
@@ -238,10 +239,16 @@ fn other_components_stay_unreachable() {
 fn bad_input_is_an_error() {
     let mesh = build(flat_grid(2, 2, 1.0));
     let o = IchOptions::default();
-    assert_eq!(solve(&mesh, &[], &o).unwrap_err(), IchError::NoSources);
+    assert_eq!(
+        solve(&mesh, &[], &o).unwrap_err(),
+        IchError::Source(SourceError::NoSources)
+    );
     assert!(matches!(
         solve(&mesh, &[Source::Vertex(9)], &o),
-        Err(IchError::VertexOutOfRange { vertex: 9, .. })
+        Err(IchError::Source(SourceError::VertexOutOfRange {
+            vertex: 9,
+            ..
+        }))
     ));
     assert!(matches!(
         solve(
@@ -252,7 +259,7 @@ fn bad_input_is_an_error() {
             }],
             &o
         ),
-        Err(IchError::EdgeParameter { .. })
+        Err(IchError::Source(SourceError::EdgeParameter { .. }))
     ));
     assert!(matches!(
         solve(
@@ -263,7 +270,7 @@ fn bad_input_is_an_error() {
             }],
             &o
         ),
-        Err(IchError::HalfEdgeOutOfRange { .. })
+        Err(IchError::Source(SourceError::HalfEdgeOutOfRange { .. }))
     ));
     assert!(matches!(
         solve(
@@ -274,7 +281,7 @@ fn bad_input_is_an_error() {
             }],
             &o
         ),
-        Err(IchError::Barycentric { .. })
+        Err(IchError::Source(SourceError::Barycentric { .. }))
     ));
     assert!(matches!(
         solve(
@@ -285,7 +292,7 @@ fn bad_input_is_an_error() {
             }],
             &o
         ),
-        Err(IchError::FaceOutOfRange { .. })
+        Err(IchError::Source(SourceError::FaceOutOfRange { .. }))
     ));
     let neg = IchOptions {
         max_distance: Some(-1.0),
@@ -293,13 +300,16 @@ fn bad_input_is_an_error() {
     };
     assert!(matches!(
         solve(&mesh, &[Source::Vertex(0)], &neg),
-        Err(IchError::MaxDistance(_))
+        Err(IchError::Source(SourceError::MaxDistance(_)))
     ));
     let mut soup = flat_grid(2, 2, 1.0);
     soup.positions.push(DVec3::ZERO);
     let mesh = build(soup);
     assert!(matches!(
         solve(&mesh, &[Source::Vertex(9)], &o),
-        Err(IchError::UnreferencedVertex { vertex: 9, .. })
+        Err(IchError::Source(SourceError::UnreferencedVertex {
+            vertex: 9,
+            ..
+        }))
     ));
 }

@@ -5,11 +5,13 @@
 //! vertex a root window was emitted from, until a source.
 
 use geodesics_mesh::Mesh;
-use geodesics_window::{DistanceField, GeodesicPath, Source, Stats, SurfacePoint, frame_coords};
+use geodesics_window::{
+    DistanceField, GeodesicPath, Source, Stats, SurfacePoint, barycentric_ok, frame_coords,
+};
 use glam::{DVec2, DVec3};
 
 use crate::MmpError;
-use crate::solver::{FaceKind, NONE, Prov, SOURCE_ORIGIN, Solved, barycentric_ok};
+use crate::solver::{FaceKind, NONE, Prov, SOURCE_ORIGIN, Solved};
 
 /// Edge crossings closer than this many tolerance margins to an edge end
 /// are reported as that vertex (as VTP's tracer does).

@@ -7,6 +7,7 @@ use std::time::Instant;
 use geodesics_mesh::Mesh;
 use geodesics_window::{
     DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, frame_coords,
+    validate_sources,
 };
 use glam::{DVec2, DVec3};
 
@@ -241,67 +242,8 @@ pub(crate) fn validate(
     sources: &[Source],
     options: &MmpOptions,
 ) -> Result<(), MmpError> {
-    if sources.is_empty() {
-        return Err(MmpError::NoSources);
-    }
-    if let Some(m) = options.max_distance
-        && !(m >= 0.0)
-    {
-        return Err(MmpError::MaxDistance(m));
-    }
-    let tol = Tolerance::for_mesh(mesh);
-    for (source_index, s) in sources.iter().enumerate() {
-        match *s {
-            Source::Vertex(vertex) => {
-                if vertex as usize >= mesh.input_vertex_count() {
-                    return Err(MmpError::VertexOutOfRange {
-                        source_index,
-                        vertex,
-                        vertices: mesh.input_vertex_count(),
-                    });
-                }
-                if !mesh.is_referenced(vertex) {
-                    return Err(MmpError::UnreferencedVertex {
-                        source_index,
-                        vertex,
-                    });
-                }
-            }
-            Source::EdgePoint { half_edge, t } => {
-                if half_edge as usize >= mesh.half_edge_count() {
-                    return Err(MmpError::HalfEdgeOutOfRange {
-                        source_index,
-                        half_edge,
-                        half_edges: mesh.half_edge_count(),
-                    });
-                }
-                if !(0.0..=1.0).contains(&t) {
-                    return Err(MmpError::EdgeParameter { source_index, t });
-                }
-            }
-            Source::FacePoint { face, barycentric } => {
-                if face as usize >= mesh.face_count() {
-                    return Err(MmpError::FaceOutOfRange {
-                        source_index,
-                        face,
-                        faces: mesh.face_count(),
-                    });
-                }
-                if !barycentric_ok(&barycentric, &tol) {
-                    return Err(MmpError::Barycentric {
-                        source_index,
-                        barycentric,
-                    });
-                }
-            }
-        }
-    }
+    validate_sources(mesh, sources, options.max_distance)?;
     Ok(())
-}
-
-pub(crate) fn barycentric_ok(b: &[f64; 3], tol: &Tolerance) -> bool {
-    b.iter().all(|x| x.is_finite() && *x >= 0.0)
-        && (b.iter().sum::<f64>() - 1.0).abs() <= tol.relative
 }
 
 /// The point of a source (its position in 3D).

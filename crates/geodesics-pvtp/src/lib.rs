@@ -122,6 +122,7 @@ pub fn solve(
 mod tests {
     use super::*;
     use geodesics_mesh::{BuildOptions, IndexedTriangles};
+    use geodesics_window::SourceError;
     use glam::DVec3;
 
     fn build(soup: IndexedTriangles) -> Mesh {
@@ -314,10 +315,16 @@ mod tests {
     fn bad_input_is_refused() {
         let mesh = build(geodesics_shapes::flat_grid(2, 2, 1.0));
         let o = PvtpOptions::default();
-        assert_eq!(solve(&mesh, &[], &o), Err(PvtpError::NoSources));
+        assert_eq!(
+            solve(&mesh, &[], &o),
+            Err(PvtpError::Source(SourceError::NoSources))
+        );
         assert!(matches!(
             solve(&mesh, &[Source::Vertex(9)], &o),
-            Err(PvtpError::VertexOutOfRange { vertex: 9, .. })
+            Err(PvtpError::Source(SourceError::VertexOutOfRange {
+                vertex: 9,
+                ..
+            }))
         ));
         assert!(matches!(
             solve(
@@ -328,7 +335,7 @@ mod tests {
                 }],
                 &o
             ),
-            Err(PvtpError::EdgeParameter { .. })
+            Err(PvtpError::Source(SourceError::EdgeParameter { .. }))
         ));
         assert!(matches!(
             solve(
@@ -339,7 +346,7 @@ mod tests {
                 }],
                 &o
             ),
-            Err(PvtpError::Barycentric { .. })
+            Err(PvtpError::Source(SourceError::Barycentric { .. }))
         ));
         assert!(matches!(
             solve(
@@ -350,7 +357,7 @@ mod tests {
                     ..o.clone()
                 }
             ),
-            Err(PvtpError::MaxDistance(_))
+            Err(PvtpError::Source(SourceError::MaxDistance(_)))
         ));
     }
 }

@@ -38,7 +38,7 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, WindowReset,
-    frame_coords,
+    frame_coords, validate_sources,
 };
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -1163,70 +1163,14 @@ pub(crate) fn validate(
     sources: &[Source],
     options: &PvtpOptions,
 ) -> Result<(), PvtpError> {
-    if sources.is_empty() {
-        return Err(PvtpError::NoSources);
-    }
-    if let Some(m) = options.max_distance
-        && !(m >= 0.0)
-    {
-        return Err(PvtpError::MaxDistance(m));
-    }
+    validate_sources(mesh, sources, options.max_distance)?;
     if let Some(r) = options.reset
-        && !(r.lambda > 0.0 && r.lambda.is_finite() && r.lambda_g >= 0.0 && r.lambda_g.is_finite())
+        && !r.is_usable()
     {
         return Err(PvtpError::Reset {
             lambda: r.lambda,
             lambda_g: r.lambda_g,
         });
-    }
-    let tol = Tolerance::for_mesh(mesh);
-    for (source_index, s) in sources.iter().enumerate() {
-        match *s {
-            Source::Vertex(vertex) => {
-                if vertex as usize >= mesh.input_vertex_count() {
-                    return Err(PvtpError::VertexOutOfRange {
-                        source_index,
-                        vertex,
-                        vertices: mesh.input_vertex_count(),
-                    });
-                }
-                if !mesh.is_referenced(vertex) {
-                    return Err(PvtpError::UnreferencedVertex {
-                        source_index,
-                        vertex,
-                    });
-                }
-            }
-            Source::EdgePoint { half_edge, t } => {
-                if half_edge as usize >= mesh.half_edge_count() {
-                    return Err(PvtpError::HalfEdgeOutOfRange {
-                        source_index,
-                        half_edge,
-                        half_edges: mesh.half_edge_count(),
-                    });
-                }
-                if !(0.0..=1.0).contains(&t) {
-                    return Err(PvtpError::EdgeParameter { source_index, t });
-                }
-            }
-            Source::FacePoint { face, barycentric } => {
-                if face as usize >= mesh.face_count() {
-                    return Err(PvtpError::FaceOutOfRange {
-                        source_index,
-                        face,
-                        faces: mesh.face_count(),
-                    });
-                }
-                let ok = barycentric.iter().all(|b| b.is_finite() && *b >= 0.0)
-                    && (barycentric.iter().sum::<f64>() - 1.0).abs() <= tol.relative;
-                if !ok {
-                    return Err(PvtpError::Barycentric {
-                        source_index,
-                        barycentric,
-                    });
-                }
-            }
-        }
     }
     Ok(())
 }

@@ -51,11 +51,13 @@
 
 mod path;
 pub mod prune;
+mod sources;
 mod tolerance;
 mod types;
 mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
+pub use sources::{SourceError, barycentric_ok, validate_sources};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
 pub use window::{EndedWindow, Triangle, Window, frame_coords};

@@ -102,6 +102,15 @@ impl WindowReset {
     /// The guard band the authors' code uses.
     pub const DEFAULT_LAMBDA_G: f64 = 8.0;
 
+    /// Whether λ is a finite positive number and λ_g a finite non-negative
+    /// one (what every solver accepts).
+    pub fn is_usable(&self) -> bool {
+        self.lambda > 0.0
+            && self.lambda.is_finite()
+            && self.lambda_g >= 0.0
+            && self.lambda_g.is_finite()
+    }
+
     /// A reset every `lambda` mean edge lengths, with the default guard.
     pub fn every(lambda: f64) -> WindowReset {
         WindowReset {

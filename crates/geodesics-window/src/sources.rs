@@ -1,0 +1,154 @@
+//! Checking the sources and common settings every solver takes.
+
+use geodesics_mesh::Mesh;
+use thiserror::Error;
+
+use crate::{Source, Tolerance};
+
+/// Why a solve's sources or distance limit were refused. Every variant
+/// names the offending source (its index in the `sources` slice) and value.
+/// Each solver's error wraps it.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum SourceError {
+    /// The source list is empty.
+    #[error("no sources given")]
+    NoSources,
+    /// A vertex source is not a vertex of the mesh.
+    #[error(
+        "source {source_index}: vertex {vertex} out of range (the mesh has {vertices} input vertices)"
+    )]
+    VertexOutOfRange {
+        /// Index of the source.
+        source_index: usize,
+        /// The vertex given.
+        vertex: u32,
+        /// Number of input vertices.
+        vertices: usize,
+    },
+    /// A vertex source belongs to no face.
+    #[error("source {source_index}: vertex {vertex} is not referenced by any face")]
+    UnreferencedVertex {
+        /// Index of the source.
+        source_index: usize,
+        /// The vertex given.
+        vertex: u32,
+    },
+    /// An edge-point source names a half-edge that does not exist.
+    #[error(
+        "source {source_index}: half-edge {half_edge} out of range (the mesh has {half_edges})"
+    )]
+    HalfEdgeOutOfRange {
+        /// Index of the source.
+        source_index: usize,
+        /// The half-edge given.
+        half_edge: u32,
+        /// Number of half-edges.
+        half_edges: usize,
+    },
+    /// An edge-point parameter is not a number in `[0, 1]`.
+    #[error("source {source_index}: edge parameter t = {t} is not in [0, 1]")]
+    EdgeParameter {
+        /// Index of the source.
+        source_index: usize,
+        /// The parameter given.
+        t: f64,
+    },
+    /// A face-point source names a face that does not exist.
+    #[error("source {source_index}: face {face} out of range (the mesh has {faces})")]
+    FaceOutOfRange {
+        /// Index of the source.
+        source_index: usize,
+        /// The face given.
+        face: u32,
+        /// Number of faces.
+        faces: usize,
+    },
+    /// Barycentric coordinates not finite, negative, or not summing to 1.
+    #[error(
+        "source {source_index}: barycentric coordinates {barycentric:?} must be finite, non-negative and sum to 1"
+    )]
+    Barycentric {
+        /// Index of the source.
+        source_index: usize,
+        /// The coordinates given.
+        barycentric: [f64; 3],
+    },
+    /// The maximum distance is NaN or negative.
+    #[error("maximum distance {0} must be a non-negative number")]
+    MaxDistance(f64),
+}
+
+/// Checks `sources` against `mesh` and the distance limit: at least one
+/// source; vertices in range and referenced by a face; half-edges in range
+/// with `t ∈ [0, 1]`; faces in range with finite, non-negative barycentric
+/// coordinates summing to 1 (within the tolerance); a limit that is a
+/// non-negative number.
+pub fn validate_sources(
+    mesh: &Mesh,
+    sources: &[Source],
+    max_distance: Option<f64>,
+) -> Result<(), SourceError> {
+    if sources.is_empty() {
+        return Err(SourceError::NoSources);
+    }
+    if let Some(m) = max_distance
+        && !(m >= 0.0)
+    {
+        return Err(SourceError::MaxDistance(m));
+    }
+    let tol = Tolerance::for_mesh(mesh);
+    for (source_index, s) in sources.iter().enumerate() {
+        match *s {
+            Source::Vertex(vertex) => {
+                if vertex as usize >= mesh.input_vertex_count() {
+                    return Err(SourceError::VertexOutOfRange {
+                        source_index,
+                        vertex,
+                        vertices: mesh.input_vertex_count(),
+                    });
+                }
+                if !mesh.is_referenced(vertex) {
+                    return Err(SourceError::UnreferencedVertex {
+                        source_index,
+                        vertex,
+                    });
+                }
+            }
+            Source::EdgePoint { half_edge, t } => {
+                if half_edge as usize >= mesh.half_edge_count() {
+                    return Err(SourceError::HalfEdgeOutOfRange {
+                        source_index,
+                        half_edge,
+                        half_edges: mesh.half_edge_count(),
+                    });
+                }
+                if !(0.0..=1.0).contains(&t) {
+                    return Err(SourceError::EdgeParameter { source_index, t });
+                }
+            }
+            Source::FacePoint { face, barycentric } => {
+                if face as usize >= mesh.face_count() {
+                    return Err(SourceError::FaceOutOfRange {
+                        source_index,
+                        face,
+                        faces: mesh.face_count(),
+                    });
+                }
+                if !barycentric_ok(&barycentric, &tol) {
+                    return Err(SourceError::Barycentric {
+                        source_index,
+                        barycentric,
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether barycentric coordinates are finite, non-negative and sum to 1
+/// within the tolerance.
+pub fn barycentric_ok(b: &[f64; 3], tol: &Tolerance) -> bool {
+    b.iter().all(|x| x.is_finite() && *x >= 0.0)
+        && (b.iter().sum::<f64>() - 1.0).abs() <= tol.relative
+}
