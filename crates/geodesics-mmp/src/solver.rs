@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::{
-    DistanceField, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, frame_coords,
-    validate_sources,
+    DistanceField, NO_SOURCE, Source, SourceStart, Stats, Tolerance, Triangle, Window,
+    frame_coords, source_start, validate_sources,
 };
 use glam::{DVec2, DVec3};
 
@@ -390,45 +390,25 @@ impl<'a> Solver<'a> {
 
     fn seed(&mut self, i: u32, source: &Source) {
         let mesh = self.mesh;
-        match *source {
-            Source::Vertex(v) => self.seed_vertex(i, v),
-            Source::EdgePoint { half_edge: h, t } => {
-                if t == 0.0 {
-                    return self.seed_vertex(i, mesh.tail(h));
-                }
-                if t == 1.0 {
-                    return self.seed_vertex(i, mesh.head(h));
-                }
-                let q = self.source_points[i as usize];
-                // Paths along the edge line may continue through its ends.
-                for v in [mesh.tail(h), mesh.head(h)] {
+        match source_start(mesh, source) {
+            SourceStart::Vertex(v) => self.seed_vertex(i, v),
+            // MMP keeps its own copy of each source point for backtracing.
+            SourceStart::Point {
+                faces, edge_ends, ..
+            } => {
+                for v in edge_ends.into_iter().flatten() {
                     self.force_pseudo(v);
                 }
-                self.seed_point_in_face(i, Mesh::face_of(h), q);
-                if let Some(t) = mesh.twin(h) {
-                    self.seed_point_in_face(i, Mesh::face_of(t), q);
-                }
-            }
-            Source::FacePoint { face, barycentric } => {
-                let zeros = barycentric.iter().filter(|&&b| b == 0.0).count();
-                if zeros == 2 {
-                    let k = barycentric.iter().position(|&b| b != 0.0).unwrap_or(0);
-                    return self.seed_vertex(i, mesh.face(face)[k]);
-                }
-                if zeros == 1 {
-                    let k = barycentric.iter().position(|&b| b == 0.0).unwrap_or(0);
-                    let (i1, i2) = ((k + 1) % 3, (k + 2) % 3);
-                    let t = barycentric[i2] / (barycentric[i1] + barycentric[i2]);
-                    let half_edge = 3 * face + i1 as u32;
-                    return self.seed(i, &Source::EdgePoint { half_edge, t });
-                }
-                if self.kind[face as usize] != FaceKind::Proper {
-                    for v in mesh.face(face) {
-                        self.force_pseudo(v);
+                for f in faces.into_iter().flatten() {
+                    // A point inside a zero-area face starts from its
+                    // corners: they become pseudo-sources.
+                    if edge_ends.is_none() && self.kind[f as usize] != FaceKind::Proper {
+                        for v in mesh.face(f) {
+                            self.force_pseudo(v);
+                        }
                     }
+                    self.seed_point_in_face(i, f, self.source_points[i as usize]);
                 }
-                let q = self.source_points[i as usize];
-                self.seed_point_in_face(i, face, q);
             }
         }
     }

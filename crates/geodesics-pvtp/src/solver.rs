@@ -37,8 +37,8 @@ use geodesics_window::prune::{
     PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
-    DistanceField, EndedWindow, NO_SOURCE, Source, Stats, Tolerance, Triangle, Window, WindowReset,
-    frame_coords, validate_sources,
+    DistanceField, EndedWindow, NO_SOURCE, Source, SourceStart, Stats, Tolerance, Triangle, Window,
+    WindowReset, frame_coords, source_start, validate_sources,
 };
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -691,49 +691,26 @@ impl<'a> Solver<'a> {
 
     pub(crate) fn seed(&mut self, i: u32, source: &Source) {
         let mesh = self.mesh;
-        match *source {
-            Source::Vertex(v) => self.seed_vertex(i, v),
-            Source::EdgePoint { half_edge: h, t } => {
-                if t == 0.0 {
-                    return self.seed_vertex(i, mesh.tail(h));
-                }
-                if t == 1.0 {
-                    return self.seed_vertex(i, mesh.head(h));
-                }
-                let a = mesh.position(mesh.tail(h));
-                let b = mesh.position(mesh.head(h));
-                let q = a + (b - a) * t;
-                // Paths along the edge line may continue through its ends.
-                for v in [mesh.tail(h), mesh.head(h)] {
+        match source_start(mesh, source) {
+            SourceStart::Vertex(v) => self.seed_vertex(i, v),
+            SourceStart::Point {
+                point,
+                faces,
+                edge_ends,
+            } => {
+                for v in edge_ends.into_iter().flatten() {
                     self.force_pseudo(v);
                 }
-                self.seed_point_in_face(i, Mesh::face_of(h), q);
-                if let Some(t) = mesh.twin(h) {
-                    self.seed_point_in_face(i, Mesh::face_of(t), q);
-                }
-            }
-            Source::FacePoint { face, barycentric } => {
-                let c = mesh.face(face).map(|v| mesh.position(v));
-                let s: f64 = barycentric.iter().sum();
-                let q = (c[0] * barycentric[0] + c[1] * barycentric[1] + c[2] * barycentric[2]) / s;
-                let zeros = barycentric.iter().filter(|&&b| b == 0.0).count();
-                if zeros == 2 {
-                    let k = barycentric.iter().position(|&b| b != 0.0).unwrap_or(0);
-                    return self.seed_vertex(i, mesh.face(face)[k]);
-                }
-                if zeros == 1 {
-                    let k = barycentric.iter().position(|&b| b == 0.0).unwrap_or(0);
-                    let (i1, i2) = ((k + 1) % 3, (k + 2) % 3);
-                    let t = barycentric[i2] / (barycentric[i1] + barycentric[i2]);
-                    let half_edge = 3 * face + i1 as u32;
-                    return self.seed(i, &Source::EdgePoint { half_edge, t });
-                }
-                if self.kind[face as usize] != FaceKind::Proper {
-                    for v in mesh.face(face) {
-                        self.force_pseudo(v);
+                for f in faces.into_iter().flatten() {
+                    // A point inside a zero-area face starts from its
+                    // corners: they become pseudo-sources.
+                    if edge_ends.is_none() && self.kind[f as usize] != FaceKind::Proper {
+                        for v in mesh.face(f) {
+                            self.force_pseudo(v);
+                        }
                     }
+                    self.seed_point_in_face(i, f, point);
                 }
-                self.seed_point_in_face(i, face, q);
             }
         }
     }

@@ -57,7 +57,7 @@ mod types;
 mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
-pub use sources::{SourceError, barycentric_ok, validate_sources};
+pub use sources::{SourceError, SourceStart, barycentric_ok, source_start, validate_sources};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
 pub use window::{EndedWindow, Triangle, Window, frame_coords};

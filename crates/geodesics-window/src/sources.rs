@@ -1,6 +1,7 @@
 //! Checking the sources and common settings every solver takes.
 
 use geodesics_mesh::Mesh;
+use glam::DVec3;
 use thiserror::Error;
 
 use crate::{Source, Tolerance};
@@ -151,4 +152,71 @@ pub fn validate_sources(
 pub fn barycentric_ok(b: &[f64; 3], tol: &Tolerance) -> bool {
     b.iter().all(|x| x.is_finite() && *x >= 0.0)
         && (b.iter().sum::<f64>() - 1.0).abs() <= tol.relative
+}
+
+/// Where a validated source starts the wavefront, decided once for every
+/// solver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SourceStart {
+    /// At a mesh vertex (also an edge or face point that sits on one).
+    Vertex(u32),
+    /// At `point`, inside `faces[0]` and, for a point on an edge, also
+    /// inside `faces[1]`, the face across it (if any). A point on an edge
+    /// names the edge's ends in `edge_ends`: paths running along the edge's
+    /// line may go on through them, so they must act as pseudo-sources.
+    Point {
+        /// The source position.
+        point: DVec3,
+        /// The face(s) holding it.
+        faces: [Option<u32>; 2],
+        /// The ends of the edge holding it, for a point on an edge.
+        edge_ends: Option<[u32; 2]>,
+    },
+}
+
+/// Resolves a source (checked by [`validate_sources`]) into where it
+/// starts: a face point with one zero barycentric coordinate is an edge
+/// point, with two it is a vertex; an edge point at `t = 0` or `1` is a
+/// vertex.
+pub fn source_start(mesh: &Mesh, source: &Source) -> SourceStart {
+    match *source {
+        Source::Vertex(v) => SourceStart::Vertex(v),
+        Source::EdgePoint { half_edge: h, t } => {
+            if t == 0.0 {
+                return SourceStart::Vertex(mesh.tail(h));
+            }
+            if t == 1.0 {
+                return SourceStart::Vertex(mesh.head(h));
+            }
+            let a = mesh.position(mesh.tail(h));
+            let b = mesh.position(mesh.head(h));
+            SourceStart::Point {
+                point: a + (b - a) * t,
+                faces: [Some(h / 3), mesh.twin(h).map(|t| t / 3)],
+                edge_ends: Some([mesh.tail(h), mesh.head(h)]),
+            }
+        }
+        Source::FacePoint { face, barycentric } => {
+            let zeros = barycentric.iter().filter(|&&b| b == 0.0).count();
+            if zeros == 2 {
+                let k = barycentric.iter().position(|&b| b != 0.0).unwrap_or(0);
+                return SourceStart::Vertex(mesh.face(face)[k]);
+            }
+            if zeros == 1 {
+                // On the edge opposite the zero coordinate's corner.
+                let k = barycentric.iter().position(|&b| b == 0.0).unwrap_or(0);
+                let (i1, i2) = ((k + 1) % 3, (k + 2) % 3);
+                let t = barycentric[i2] / (barycentric[i1] + barycentric[i2]);
+                let half_edge = 3 * face + i1 as u32;
+                return source_start(mesh, &Source::EdgePoint { half_edge, t });
+            }
+            let c = mesh.face(face).map(|v| mesh.position(v));
+            let s: f64 = barycentric.iter().sum();
+            SourceStart::Point {
+                point: (c[0] * barycentric[0] + c[1] * barycentric[1] + c[2] * barycentric[2]) / s,
+                faces: [Some(face), None],
+                edge_ends: None,
+            }
+        }
+    }
 }
