@@ -6,8 +6,8 @@ use std::time::Instant;
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::vertex_check;
 use geodesics_window::{
-    DistanceField, NO_SOURCE, Source, SourceStart, Stats, Tolerance, Triangle, Window,
-    frame_coords, source_start, validate_sources,
+    DistanceField, FaceKind, NO_SOURCE, SolverSetup, Source, SourceStart, Stats, Tolerance,
+    Triangle, Window, frame_coords, source_start, validate_sources,
 };
 use glam::{DVec2, DVec3};
 
@@ -25,20 +25,6 @@ enum Item {
     /// A pseudo-source vertex to emit from (if its distance still calls for
     /// it when popped).
     Vertex(u32),
-}
-
-/// How a face is crossed (as in `geodesics-vtp`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum FaceKind {
-    /// Positive area: the generic one-step propagation.
-    Proper,
-    /// Zero area with two coincident corners (a zero-length edge): the two
-    /// long edges are the same segment, so a window entering through one
-    /// leaves through the other unchanged (identical frames).
-    Zipper,
-    /// Any other zero-area face: windows stop there; its corners are
-    /// pseudo-sources and distances relax along its edges.
-    Blocked,
 }
 
 /// A window waiting in the queue.
@@ -118,57 +104,14 @@ impl<'a> Solver<'a> {
     fn new(mesh: &'a Mesh, options: &'a IchOptions) -> Self {
         let tol = Tolerance::for_mesh(mesh);
         let nh = mesh.half_edge_count();
-        let nf = mesh.face_count();
         let nv = mesh.vertex_count();
-        let apex: Vec<DVec2> = (0..nh as u32)
-            .map(|h| frame_coords(mesh, h, mesh.position(mesh.opposite_vertex(h))))
-            .collect();
-        let mut kind = Vec::with_capacity(nf);
-        for f in 0..nf {
-            let hs = [3 * f, 3 * f + 1, 3 * f + 2];
-            let proper = hs
-                .iter()
-                .all(|&h| apex[h].y > 0.0 && mesh.length(h as u32) > 0.0);
-            let zeros = hs.iter().filter(|&&h| mesh.length(h as u32) == 0.0).count();
-            kind.push(if proper {
-                FaceKind::Proper
-            } else if zeros == 1 {
-                FaceKind::Zipper
-            } else {
-                FaceKind::Blocked
-            });
-        }
-        // Pseudo-sources: boundary vertices, saddles and flat vertices (a
-        // geodesic may pass through them), corners of zero-area faces.
-        let mut pseudo: Vec<bool> = (0..nv as u32)
-            .map(|v| mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v)))
-            .collect();
-        for (f, k) in kind.iter().enumerate() {
-            if *k != FaceKind::Proper {
-                for v in mesh.face(f as u32) {
-                    pseudo[v as usize] = true;
-                }
-            }
-        }
-        // Pinch groups: the fan copies of one input vertex share a distance
-        // and are all pseudo-sources, so geodesics pass through the pinch.
-        let mut group_of = vec![NONE; nv];
-        let mut groups: Vec<Vec<u32>> = Vec::new();
-        for v in mesh.input_vertex_count()..nv {
-            let o = mesh.pinch_origin(v as u32);
-            if group_of[o as usize] == NONE {
-                group_of[o as usize] = groups.len() as u32;
-                groups.push(vec![o]);
-            }
-            let g = group_of[o as usize];
-            group_of[v] = g;
-            groups[g as usize].push(v as u32);
-        }
-        for g in &groups {
-            for &v in g {
-                pseudo[v as usize] = true;
-            }
-        }
+        let SolverSetup {
+            apex,
+            kind,
+            pseudo,
+            group_of,
+            groups,
+        } = SolverSetup::new(mesh, &tol);
         let queue = match options.schedule {
             Schedule::PriorityQueue => Queue::heap(),
             Schedule::Fwp => Queue::buckets(bucket_width(mesh)),

@@ -6,12 +6,13 @@
 
 use geodesics_mesh::Mesh;
 use geodesics_window::{
-    DistanceField, GeodesicPath, Source, Stats, SurfacePoint, barycentric_ok, frame_coords,
+    DistanceField, FaceKind, GeodesicPath, Source, Stats, SurfacePoint, barycentric_ok,
+    frame_coords,
 };
 use glam::{DVec2, DVec3};
 
 use crate::MmpError;
-use crate::solver::{FaceKind, NONE, Prov, SOURCE_ORIGIN, Solved};
+use crate::solver::{NONE, Prov, SOURCE_ORIGIN, Solved};
 
 /// Edge crossings closer than this many tolerance margins to an edge end
 /// are reported as that vertex (as VTP's tracer does).

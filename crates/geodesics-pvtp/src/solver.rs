@@ -37,8 +37,8 @@ use geodesics_window::prune::{
     PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
-    DistanceField, EndedWindow, NO_SOURCE, Source, SourceStart, Stats, Tolerance, Triangle, Window,
-    WindowReset, frame_coords, source_start, validate_sources,
+    DistanceField, EndedWindow, FaceKind, NO_SOURCE, SolverSetup, Source, SourceStart, Stats,
+    Tolerance, Triangle, Window, WindowReset, frame_coords, source_start, validate_sources,
 };
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -71,19 +71,6 @@ const STASH: usize = 256;
 const TOUCHED: u8 = 1;
 const TO_SIDE: u8 = 2;
 const QUEUE: u8 = 4;
-
-/// How a face is crossed (as in `geodesics-vtp`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum FaceKind {
-    /// Positive area: the generic one-step propagation.
-    Proper,
-    /// Zero area with exactly one zero-length edge: the two long edges are
-    /// one segment, windows pass from one to the other unchanged.
-    Zipper,
-    /// Any other zero-area face: windows stop; its corners are
-    /// pseudo-sources.
-    Blocked,
-}
 
 /// The two lists of one half-edge: which one is the main list is bit 0
 /// of its state word (see [`Solver`]), the other is the side list.
@@ -553,56 +540,13 @@ impl<'a> Solver<'a> {
         let nh = mesh.half_edge_count();
         let nf = mesh.face_count();
         let nv = mesh.vertex_count();
-        // Per-element setup runs on the pool too (order-preserving collects).
-        let apex: Vec<DVec2> = (0..nh as u32)
-            .into_par_iter()
-            .map(|h| frame_coords(mesh, h, mesh.position(mesh.opposite_vertex(h))))
-            .collect();
-        let kind: Vec<FaceKind> = (0..nf)
-            .into_par_iter()
-            .map(|f| {
-                let hs = [3 * f, 3 * f + 1, 3 * f + 2];
-                let proper = hs
-                    .iter()
-                    .all(|&h| apex[h].y > 0.0 && mesh.length(h as u32) > 0.0);
-                let zeros = hs.iter().filter(|&&h| mesh.length(h as u32) == 0.0).count();
-                if proper {
-                    FaceKind::Proper
-                } else if zeros == 1 {
-                    FaceKind::Zipper
-                } else {
-                    FaceKind::Blocked
-                }
-            })
-            .collect();
-        let mut pseudo: Vec<bool> = (0..nv as u32)
-            .into_par_iter()
-            .map(|v| mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v)))
-            .collect();
-        for (f, k) in kind.iter().enumerate() {
-            if *k != FaceKind::Proper {
-                for v in mesh.face(f as u32) {
-                    pseudo[v as usize] = true;
-                }
-            }
-        }
-        let mut group_of = vec![NONE; nv];
-        let mut groups: Vec<Vec<u32>> = Vec::new();
-        for v in mesh.input_vertex_count()..nv {
-            let o = mesh.pinch_origin(v as u32);
-            if group_of[o as usize] == NONE {
-                group_of[o as usize] = groups.len() as u32;
-                groups.push(vec![o]);
-            }
-            let g = group_of[o as usize];
-            group_of[v] = g;
-            groups[g as usize].push(v as u32);
-        }
-        for g in &groups {
-            for &v in g {
-                pseudo[v as usize] = true;
-            }
-        }
+        let SolverSetup {
+            apex,
+            kind,
+            pseudo,
+            group_of,
+            groups,
+        } = SolverSetup::new(mesh, &tol);
         // Bucket width h/τ (Section 4.2): h the mean edge length, τ the
         // rounded mean anisotropy (at least 1).
         let tau = mesh.summary().anisotropy.mean.round().max(1.0);

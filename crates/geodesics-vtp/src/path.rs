@@ -26,7 +26,7 @@
 
 use geodesics_mesh::Mesh;
 use geodesics_window::{
-    DistanceField, GeodesicPath, Source, SurfacePoint, Tolerance, frame_coords,
+    DistanceField, FaceKind, GeodesicPath, Source, SurfacePoint, Tolerance, face_kind, frame_coords,
 };
 use glam::DVec2;
 use thiserror::Error;
@@ -228,16 +228,6 @@ fn check_target(mesh: &Mesh, target: u32) -> Result<(), PathError> {
 
 // ------------------------------------------------------------ frames
 
-/// How a face is crossed (the solver's classification).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum FaceKind {
-    Proper,
-    /// Zero area, two coincident corners: windows pass from one long edge
-    /// to the other unchanged (identical frames).
-    Zipper,
-    Blocked,
-}
-
 /// The half-edge `i` steps after `e` in its face (0: `e`, 1: next, 2: prev).
 /// Its tail is corner `i` of [`corners`]`(e)`.
 fn he(e: u32, i: usize) -> u32 {
@@ -254,19 +244,9 @@ fn corners(mesh: &Mesh, e: u32) -> [DVec2; 3] {
     ]
 }
 
-fn face_kind(mesh: &Mesh, f: u32) -> FaceKind {
-    let hs = [3 * f, 3 * f + 1, 3 * f + 2];
-    let proper = hs
-        .iter()
-        .all(|&h| mesh.length(h) > 0.0 && corners(mesh, h)[2].y > 0.0);
-    let zeros = hs.iter().filter(|&&h| mesh.length(h) == 0.0).count();
-    if proper {
-        FaceKind::Proper
-    } else if zeros == 1 {
-        FaceKind::Zipper
-    } else {
-        FaceKind::Blocked
-    }
+/// How face `f` is crossed (the solver's classification).
+fn face_kind_of(mesh: &Mesh, f: u32) -> FaceKind {
+    face_kind(mesh, f, |h| corners(mesh, h)[2])
 }
 
 /// `q` (in the frame whose face has corners `c`) in the frame of the
@@ -526,7 +506,7 @@ impl Tracer<'_> {
     ) -> Step {
         let mesh = self.mesh;
         let f = Mesh::face_of(e);
-        match face_kind(mesh, f) {
+        match face_kind_of(mesh, f) {
             FaceKind::Blocked => return Step::Fail,
             FaceKind::Zipper => {
                 // The two long edges are one segment with identical frames
@@ -693,7 +673,7 @@ impl Tracer<'_> {
             let g = he(e, i);
             let pg = reframe(&c, i, p);
             let t = mesh.twin(g)?;
-            if face_kind(mesh, Mesh::face_of(t)) != FaceKind::Proper {
+            if face_kind_of(mesh, Mesh::face_of(t)) != FaceKind::Proper {
                 return None;
             }
             let len = mesh.length(g);

@@ -10,8 +10,8 @@ use geodesics_window::prune::{
     vertex_check_ended,
 };
 use geodesics_window::{
-    DistanceField, EndedWindow, NO_SOURCE, Source, SourceStart, Stats, Tolerance, Triangle, Window,
-    frame_coords, source_start, validate_sources,
+    DistanceField, EndedWindow, FaceKind, NO_SOURCE, SolverSetup, Source, SourceStart, Stats,
+    Tolerance, Triangle, Window, frame_coords, source_start, validate_sources,
 };
 use glam::{DVec2, DVec3};
 
@@ -22,21 +22,6 @@ const NONE: u32 = u32::MAX;
 /// One window list in this many has its phases timed; the phase times are
 /// scaled up accordingly (an estimate, unbiased over many lists).
 const PHASE_SAMPLE: u64 = 32;
-
-/// How a face is crossed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum FaceKind {
-    /// Positive area: the generic one-step propagation.
-    Proper,
-    /// Zero area with two coincident corners (a zero-length edge): the two
-    /// long edges are the same segment, so a window entering through one
-    /// leaves through the other unchanged (identical frames).
-    Zipper,
-    /// Any other zero-area face (three coincident or collinear corners):
-    /// windows stop there; its vertices are pseudo-sources and distances
-    /// relax along its edges.
-    Blocked,
-}
 
 struct Solver<'a> {
     mesh: &'a Mesh,
@@ -133,60 +118,14 @@ impl<'a> Solver<'a> {
         let nh = mesh.half_edge_count();
         let nf = mesh.face_count();
         let nv = mesh.vertex_count();
-        let mut apex = Vec::with_capacity(nh);
-        for h in 0..nh as u32 {
-            apex.push(frame_coords(
-                mesh,
-                h,
-                mesh.position(mesh.opposite_vertex(h)),
-            ));
-        }
-        let mut kind = Vec::with_capacity(nf);
-        for f in 0..nf {
-            let hs = [3 * f, 3 * f + 1, 3 * f + 2];
-            let proper = hs
-                .iter()
-                .all(|&h| apex[h].y > 0.0 && mesh.length(h as u32) > 0.0);
-            let zeros = hs.iter().filter(|&&h| mesh.length(h as u32) == 0.0).count();
-            kind.push(if proper {
-                FaceKind::Proper
-            } else if zeros == 1 {
-                FaceKind::Zipper
-            } else {
-                FaceKind::Blocked
-            });
-        }
-        let mut pseudo = vec![false; nv];
-        for (v, p) in pseudo.iter_mut().enumerate() {
-            let v = v as u32;
-            *p = mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v));
-        }
-        for (f, k) in kind.iter().enumerate() {
-            if *k != FaceKind::Proper {
-                for v in mesh.face(f as u32) {
-                    pseudo[v as usize] = true;
-                }
-            }
-        }
+        let SolverSetup {
+            apex,
+            kind,
+            pseudo,
+            group_of,
+            groups,
+        } = SolverSetup::new(mesh, &tol);
         let mean_edge = mesh.average_edge_length();
-        // Pinch groups: the fan copies of one input vertex.
-        let mut group_of = vec![NONE; nv];
-        let mut groups: Vec<Vec<u32>> = Vec::new();
-        for v in mesh.input_vertex_count()..nv {
-            let o = mesh.pinch_origin(v as u32);
-            if group_of[o as usize] == NONE {
-                group_of[o as usize] = groups.len() as u32;
-                groups.push(vec![o]);
-            }
-            let g = group_of[o as usize];
-            group_of[v] = g;
-            groups[g as usize].push(v as u32);
-        }
-        for g in &groups {
-            for &v in g {
-                pseudo[v as usize] = true;
-            }
-        }
         Solver {
             mesh,
             options,

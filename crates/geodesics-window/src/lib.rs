@@ -51,12 +51,14 @@
 
 mod path;
 pub mod prune;
+mod setup;
 mod sources;
 mod tolerance;
 mod types;
 mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
+pub use setup::{FaceKind, NO_GROUP, SolverSetup, face_kind};
 pub use sources::{SourceError, SourceStart, barycentric_ok, source_start, validate_sources};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};

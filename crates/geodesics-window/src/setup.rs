@@ -1,0 +1,106 @@
+//! What every window solver derives from the mesh before it starts: each
+//! half-edge's apex in its frame, how each face is crossed, which vertices
+//! are pseudo-sources, and the pinch groups.
+
+use geodesics_mesh::Mesh;
+use glam::DVec2;
+
+use crate::{Tolerance, frame_coords};
+
+/// `group_of` value of a vertex that is not a pinch copy.
+pub const NO_GROUP: u32 = u32::MAX;
+
+/// How a face is crossed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaceKind {
+    /// Positive area: the generic one-step propagation.
+    Proper,
+    /// Zero area with two coincident corners (a zero-length edge): the two
+    /// long edges are the same segment, so a window entering through one
+    /// leaves through the other unchanged (identical frames).
+    Zipper,
+    /// Any other zero-area face (three coincident or collinear corners):
+    /// windows stop there; its corners are pseudo-sources and distances
+    /// cross it along its edges.
+    Blocked,
+}
+
+/// How face `f` is crossed, given each half-edge's apex in its frame.
+pub fn face_kind(mesh: &Mesh, f: u32, apex: impl Fn(u32) -> DVec2) -> FaceKind {
+    let hs = [3 * f, 3 * f + 1, 3 * f + 2];
+    let proper = hs.iter().all(|&h| mesh.length(h) > 0.0 && apex(h).y > 0.0);
+    let zeros = hs.iter().filter(|&&h| mesh.length(h) == 0.0).count();
+    if proper {
+        FaceKind::Proper
+    } else if zeros == 1 {
+        FaceKind::Zipper
+    } else {
+        FaceKind::Blocked
+    }
+}
+
+/// The per-mesh tables a solver starts from.
+#[derive(Clone, Debug)]
+pub struct SolverSetup {
+    /// Per half-edge: the opposite corner in the half-edge's frame.
+    pub apex: Vec<DVec2>,
+    /// Per face: how it is crossed.
+    pub kind: Vec<FaceKind>,
+    /// Per vertex: a pseudo-source (boundary, saddle or flat vertex, corner
+    /// of a zero-area face, pinch copy).
+    pub pseudo: Vec<bool>,
+    /// Per vertex: index into `groups` of its pinch group, or [`NO_GROUP`].
+    pub group_of: Vec<u32>,
+    /// The pinch groups: the fan copies of one input vertex, which share
+    /// one distance.
+    pub groups: Vec<Vec<u32>>,
+}
+
+impl SolverSetup {
+    /// The tables of `mesh` under the tolerance policy `tol` (which decides
+    /// flat and saddle vertices).
+    pub fn new(mesh: &Mesh, tol: &Tolerance) -> SolverSetup {
+        let nv = mesh.vertex_count();
+        let apex: Vec<DVec2> = (0..mesh.half_edge_count() as u32)
+            .map(|h| frame_coords(mesh, h, mesh.position(mesh.opposite_vertex(h))))
+            .collect();
+        let kind: Vec<FaceKind> = (0..mesh.face_count() as u32)
+            .map(|f| face_kind(mesh, f, |h| apex[h as usize]))
+            .collect();
+        // Pseudo-sources: a geodesic may pass through these vertices.
+        let mut pseudo: Vec<bool> = (0..nv as u32)
+            .map(|v| mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v)))
+            .collect();
+        for (f, k) in kind.iter().enumerate() {
+            if *k != FaceKind::Proper {
+                for v in mesh.face(f as u32) {
+                    pseudo[v as usize] = true;
+                }
+            }
+        }
+        let mut group_of = vec![NO_GROUP; nv];
+        let mut groups: Vec<Vec<u32>> = Vec::new();
+        for v in mesh.input_vertex_count()..nv {
+            let o = mesh.pinch_origin(v as u32);
+            if group_of[o as usize] == NO_GROUP {
+                group_of[o as usize] = groups.len() as u32;
+                groups.push(vec![o]);
+            }
+            let g = group_of[o as usize];
+            group_of[v] = g;
+            groups[g as usize].push(v as u32);
+        }
+        for g in &groups {
+            for &v in g {
+                pseudo[v as usize] = true;
+            }
+        }
+        SolverSetup {
+            apex,
+            kind,
+            pseudo,
+            group_of,
+            groups,
+        }
+    }
+}
