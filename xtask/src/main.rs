@@ -12,9 +12,10 @@
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
 //!   Loop-subdivided bunny and the welded dragon.
-//! - `cargo xtask tables [--runs N]`: every algorithm on `bunny.off` and
-//!   `armadillo.obj` (Tables 1 and 3 of the VTP paper): time, propagations
-//!   and peak window memory, with ratios to VTP from the same run.
+//! - `cargo xtask tables [--runs N] [--algorithms a,b,..]`: every algorithm
+//!   (or those named) on `bunny.off` and `armadillo.obj` (Tables 1 and 3 of
+//!   the VTP paper): time, propagations and peak window memory, with ratios
+//!   to VTP from the same run.
 //! - `cargo xtask load [--runs N]`: read and topology-build times of every
 //!   real mesh.
 //!
@@ -37,7 +38,7 @@ fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(command) = args.first() else {
         eprintln!(
-            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] | load [--runs N]"
+            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N]"
         );
         return Ok(());
     };
@@ -45,7 +46,13 @@ fn main() -> Result<()> {
     match command.as_str() {
         "bench" => bench(runs, args.iter().any(|a| a == "--large")),
         "avtp" => avtp::table(runs, args.iter().any(|a| a == "--large")),
-        "tables" => tables::table(runs),
+        "tables" => tables::table(
+            runs,
+            args.iter()
+                .position(|a| a == "--algorithms")
+                .and_then(|i| args.get(i + 1))
+                .map(String::as_str),
+        ),
         "pvtp" => pvtp::table(runs, args.iter().any(|a| a == "--large")),
         "load" => load(runs),
         other => bail!("unknown xtask command `{other}` (try: bench, avtp, pvtp, tables, load)"),

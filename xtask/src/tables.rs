@@ -8,7 +8,15 @@ use geodesics::{Algorithm, BuildOptions, Mesh};
 
 use crate::{best_of, data_dir, read};
 
-pub fn table(runs: usize) -> Result<()> {
+/// `only`: a comma-separated subset of the algorithm names (all if `None`).
+pub fn table(runs: usize, only: Option<&str>) -> Result<()> {
+    let names: Vec<&str> = match only {
+        Some(list) => list.split(',').map(str::trim).collect(),
+        None => Algorithm::NAMES.to_vec(),
+    };
+    for name in &names {
+        name.parse::<Algorithm>()?;
+    }
     let dir = data_dir()?;
     println!("Every algorithm from vertex 0, best of {runs} runs (solve only)\n");
     for file in ["bunny.off", "armadillo.obj"] {
@@ -19,7 +27,7 @@ pub fn table(runs: usize) -> Result<()> {
         );
         println!("|---|---:|---:|---:|---:|---:|---:|");
         let (vtp_s, _, vtp) = best_of(&mesh, &Algorithm::default(), runs)?;
-        for &name in Algorithm::NAMES {
+        for &name in &names {
             let algorithm: Algorithm = name.parse()?;
             let (s, st) = if name == "vtp" {
                 (vtp_s, vtp.clone())

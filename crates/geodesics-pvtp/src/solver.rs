@@ -33,9 +33,7 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
-use geodesics_window::prune::{
-    PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_splitting, vertex_check_ended,
-};
+use geodesics_window::prune::{merge_behind, one_angle_two_sides, vertex_check_ended};
 use geodesics_window::{
     DistanceField, EndedWindow, FaceKind, NO_SOURCE, SolverSetup, Source, SourceStart, Stats,
     Tolerance, Triangle, Window, WindowReset, frame_coords, source_start, validate_sources,
@@ -83,40 +81,12 @@ fn lock(m: &ListPair) -> MutexGuard<'_, [Vec<EndedWindow>; 2]> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Appends `windows` to `list`, pruning adjacent pairs (Rule 2 within one
-/// propagated list, Rule 3 against what the list already holds), exactly
-/// as VTP's order-free merge, splitting a window that loses the middle of
-/// its interval. Returns the new length.
+/// Appends `windows` to `list` with VTP's order-free merge
+/// ([`merge_behind`]). Returns the new length.
 #[inline]
 fn prune_append(list: &mut Vec<EndedWindow>, windows: &[EndedWindow], tol: &Tolerance) -> usize {
     for &w in windows {
-        let mut w = w;
-        loop {
-            let Some(top) = list.last_mut() else {
-                list.push(w);
-                break;
-            };
-            match prune_adjacent_splitting(top, &mut w, tol) {
-                SplitOutcome::Pair(PairOutcome::KeepBoth) => {
-                    list.push(w);
-                    break;
-                }
-                SplitOutcome::Pair(PairOutcome::RemoveSecond) => break,
-                SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
-                    list.pop();
-                }
-                SplitOutcome::FirstSplit(right) => {
-                    // [top's left piece, w, top's right piece]
-                    list.push(w);
-                    w = right;
-                }
-                SplitOutcome::SecondSplit(right) => {
-                    // [w's left piece, top, w's right piece]
-                    list.insert(list.len() - 1, w);
-                    w = right;
-                }
-            }
-        }
+        merge_behind(list, w, tol);
     }
     list.len()
 }

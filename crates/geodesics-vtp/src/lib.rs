@@ -10,8 +10,10 @@
 //! Popping a vertex adds the faces around it to the traversed area; every
 //! list waiting to enter one of them is propagated at once through its face
 //! with Rule 1 (one angle two sides), the vertex check, and Rules 2/3
-//! (adjacent-pair pruning when the children are appended to the lists
-//! beyond); lists whose next face is already traversed keep propagating
+//! (pairwise pruning when the children are merged into the lists beyond:
+//! by default the lists are kept in edge order and each child meets every
+//! window it overlaps, see [`Merge`]; the paper's order-free merge is the
+//! `vtp-order-free` variant); lists whose next face is already traversed keep propagating
 //! (secondary propagation), the others wait on the wavefront.
 //!
 //! Pseudo-sources: boundary vertices, interior vertices whose angle sum
@@ -175,12 +177,21 @@ pub enum Schedule {
 /// How windows arriving at a list that already holds windows are merged.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Merge {
-    /// Order-free (VTP, FTP): appended behind the list.
-    #[default]
+    /// Order-free (the paper's VTP and FTP): appended behind the list,
+    /// each checked against the window it follows.
     OrderFree,
     /// Order-preserving (OPVTP, OPFTP): each window inserted where its
     /// start belongs (binary search), then checked with both neighbours.
     OrderPreserving,
+    /// Sorted (our default): lists kept in edge order and merged in one
+    /// linear pass, each window checked against every window before it
+    /// that it overlaps (see [`geodesics_window::prune::merge_sorted`]).
+    /// On scanned meshes it propagates a quarter to a third fewer windows
+    /// than the order-free merge and keeps 30-45 % fewer live, for about
+    /// the same time (the pruning it adds costs what the propagations it
+    /// saves did).
+    #[default]
+    Sorted,
 }
 
 /// Options of [`solve`]. `Default` is the paper's final algorithm with no
@@ -208,8 +219,9 @@ pub struct VtpOptions {
 /// The paper's named variants (Table 3 and Fig 12 of Qin et al. 2016) as
 /// settings of the two axes, schedule × pruning, plus the merge order.
 pub const VARIANTS: &[(&str, Schedule, Merge, Pruning)] = &[
+    ("vtp", Schedule::VertexSorted, Merge::Sorted, Pruning::VTP),
     (
-        "vtp",
+        "vtp-order-free",
         Schedule::VertexSorted,
         Merge::OrderFree,
         Pruning::VTP,
@@ -272,7 +284,7 @@ pub const VARIANTS: &[(&str, Schedule, Merge, Pruning)] = &[
     (
         "vtp-no-rule1",
         Schedule::VertexSorted,
-        Merge::OrderFree,
+        Merge::Sorted,
         Pruning {
             rule1: Rule1::Off,
             ..Pruning::VTP
@@ -281,7 +293,7 @@ pub const VARIANTS: &[(&str, Schedule, Merge, Pruning)] = &[
     (
         "vtp-no-rules23",
         Schedule::VertexSorted,
-        Merge::OrderFree,
+        Merge::Sorted,
         Pruning {
             pairs: PairRule::Off,
             ..Pruning::VTP

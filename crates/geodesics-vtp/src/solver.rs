@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::{
-    PairOutcome, SplitOutcome, one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting,
-    vertex_check_ended,
+    MergeBuffers, PairOutcome, SplitOutcome, merge_behind, merge_sorted, one_angle_two_sides,
+    prune_adjacent_ended, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
     DistanceField, EndedWindow, FaceKind, NO_SOURCE, SolverSetup, Source, SourceStart, Stats,
@@ -53,6 +53,8 @@ struct Solver<'a> {
     stats: Stats,
     left: Vec<EndedWindow>,
     right: Vec<EndedWindow>,
+    /// Spare buffers of [`merge_sorted`].
+    buffers: MergeBuffers,
     info: Vec<(f64, f64, f64)>,
     /// When the current list's children were computed (phase timing, on
     /// the sampled lists only).
@@ -151,6 +153,7 @@ impl<'a> Solver<'a> {
             stats: Stats::default(),
             left: Vec::new(),
             right: Vec::new(),
+            buffers: MergeBuffers::default(),
             info: Vec::new(),
             merge_start: None,
             timing: false,
@@ -247,7 +250,7 @@ impl<'a> Solver<'a> {
                     source: i,
                 };
                 self.stats.windows_created += 1;
-                self.append(t, &[EndedWindow::new(w)]);
+                self.append(t, &mut [EndedWindow::new(w)]);
             }
         }
     }
@@ -512,7 +515,7 @@ impl<'a> Solver<'a> {
                 source: s,
             };
             self.stats.windows_created += 1;
-            self.append(t, &[EndedWindow::new(w)]);
+            self.append(t, &mut [EndedWindow::new(w)]);
         }
     }
 
@@ -527,8 +530,9 @@ impl<'a> Solver<'a> {
 
     /// Appends windows to the list of half-edge `h`, pruning adjacent pairs
     /// (Rule 2 within one propagated list, Rule 3 / order-free secondary
-    /// merge against what the list already holds).
-    fn append(&mut self, h: u32, windows: &[EndedWindow]) {
+    /// merge against what the list already holds). The sorted merge sorts
+    /// `windows` in place.
+    fn append(&mut self, h: u32, windows: &mut [EndedWindow]) {
         if windows.is_empty() {
             return;
         }
@@ -550,28 +554,35 @@ impl<'a> Solver<'a> {
         match (self.options.pruning.pairs, self.options.merge) {
             (PairRule::Off, Merge::OrderFree) => list.extend_from_slice(windows),
             (PairRule::Off, Merge::OrderPreserving) => {
-                for &w in windows {
+                for &w in windows.iter() {
                     let at = list.partition_point(|e| e.window.b0 <= w.window.b0);
                     list.insert(at, w);
                 }
             }
             (PairRule::Adjacent, Merge::OrderFree) => {
-                for &w in windows {
+                for &w in windows.iter() {
                     merge_behind(list, w, tol);
                 }
             }
+            (PairRule::Off, Merge::Sorted) => {
+                list.extend_from_slice(windows);
+                list.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+            }
+            (PairRule::Adjacent, Merge::Sorted) => {
+                merge_sorted(list, windows, &mut self.buffers, tol);
+            }
             (PairRule::Adjacent, Merge::OrderPreserving) => {
-                for &w in windows {
+                for &w in windows.iter() {
                     merge_in_order(list, w, tol);
                 }
             }
             (PairRule::Exhaustive, _) => {
-                for &w in windows {
+                for &w in windows.iter() {
                     merge_against_all(list, w, tol, false);
                 }
             }
             (PairRule::Trimming, _) => {
-                for &w in windows {
+                for &w in windows.iter() {
                     merge_against_all(list, w, tol, true);
                 }
             }
@@ -646,7 +657,7 @@ impl<'a> Solver<'a> {
                         Mesh::prev(h)
                     };
                     if let Some(t) = mesh.twin(other) {
-                        self.append(t, &list);
+                        self.append(t, &mut list[..]);
                     }
                 }
             }
@@ -791,10 +802,10 @@ impl<'a> Solver<'a> {
             self.merge_start = Some(Instant::now());
         }
         if let Some(t) = mesh.twin(p) {
-            self.append(t, &left);
+            self.append(t, &mut left);
         }
         if let Some(t) = mesh.twin(n) {
-            self.append(t, &right);
+            self.append(t, &mut right);
         }
         self.left = left;
         self.right = right;
@@ -823,37 +834,6 @@ impl<'a> Solver<'a> {
         DistanceField {
             distance,
             nearest_source,
-        }
-    }
-}
-
-/// Rules 2 and 3 with the order-free merge: `w` goes behind the list,
-/// checked against the window before it (and on, while it removes them).
-fn merge_behind(list: &mut Vec<EndedWindow>, mut w: EndedWindow, tol: &Tolerance) {
-    loop {
-        let Some(top) = list.last_mut() else {
-            list.push(w);
-            return;
-        };
-        match prune_adjacent_splitting(top, &mut w, tol) {
-            SplitOutcome::Pair(PairOutcome::KeepBoth) => {
-                list.push(w);
-                return;
-            }
-            SplitOutcome::Pair(PairOutcome::RemoveSecond) => return,
-            SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
-                list.pop();
-            }
-            SplitOutcome::FirstSplit(right) => {
-                // [top's left piece, w, top's right piece]
-                list.push(w);
-                w = right;
-            }
-            SplitOutcome::SecondSplit(right) => {
-                // [w's left piece, top, w's right piece]
-                list.insert(list.len() - 1, w);
-                w = right;
-            }
         }
     }
 }

@@ -170,7 +170,9 @@ fn compare_on_overlap(
     let (w0, w1) = (&e0.window, &e1.window);
     let c0 = w0.b0.max(w1.b0);
     let c1 = w0.b1.min(w1.b1);
-    if !(c0 < c1) {
+    if !(c1 - c0 > tie_sliver(w0, w1)) {
+        // Disjoint, or only the sliver two trimmed windows keep around
+        // their tie point (comparing them again would settle nothing).
         return (Dominance::Disjoint, [f64::NAN; 4]);
     }
     let at = |e: &EndedWindow, x: f64| {
@@ -301,7 +303,11 @@ fn prune_pair(
             trim_loser(&w1.window, w0, PairOutcome::RemoveFirst)
         }
         Dominance::Neither => {
-            trim_at_tie(w0, w1, ends, tol);
+            match trim_at_tie(w0, w1, ends, tol, split) {
+                Some((true, right)) => return SplitOutcome::FirstSplit(right),
+                Some((false, right)) => return SplitOutcome::SecondSplit(right),
+                None => {}
+            }
             PairOutcome::KeepBoth
         }
         Dominance::Disjoint => PairOutcome::KeepBoth,
@@ -359,43 +365,72 @@ pub fn disjoint_pair(left: &EndedWindow, right: &EndedWindow, tol: &Tolerance) -
 /// where the lost part ends the window (trimming never splits one) and only
 /// after checking that the other window beats it there by the margin. A
 /// sliver of width `TIE_GAP` around the tie point stays in both.
-fn trim_at_tie(w0: &mut EndedWindow, w1: &mut EndedWindow, ends: OverlapEnds, tol: &Tolerance) {
+fn trim_at_tie(
+    w0: &mut EndedWindow,
+    w1: &mut EndedWindow,
+    ends: OverlapEnds,
+    tol: &Tolerance,
+    split: bool,
+) -> Option<(bool, EndedWindow)> {
     let [a0, a1, b0, b1] = ends;
     // They cross once only if the shorter one changes between the ends,
     // each end decided by more than the margin.
     let left_is_0 = tol.beats(a0, a1) && tol.beats(b1, b0);
     let left_is_1 = tol.beats(a1, a0) && tol.beats(b0, b1);
     if !left_is_0 && !left_is_1 {
-        return;
+        return None;
     }
     let c0 = w0.window.b0.max(w1.window.b0);
     let c1 = w0.window.b1.min(w1.window.b1);
-    let Some(x) = single_tie_point(&w0.window, &w1.window, c0, c1) else {
-        return;
-    };
+    let x = single_tie_point(&w0.window, &w1.window, c0, c1)?;
     let gap = TIE_GAP * (c1 - c0);
     let (winner_left, winner_right) = if left_is_0 { (w0, w1) } else { (w1, w0) };
-    // The right winner loses [c0, x): trim its start if it starts at c0.
+    let mut piece = None;
+    // The right winner loses [c0, x): trim its start if it starts at c0,
+    // else (splitting) cut that part out of its middle.
     let cut = x - gap;
-    if winner_right.window.b0 == c0
-        && cut > c0
-        && beats_from(&winner_left.window, &winner_right.window, c0, cut, tol)
-    {
-        winner_right.set_start(cut);
+    if cut > c0 && beats_from(&winner_left.window, &winner_right.window, c0, cut, tol) {
+        if winner_right.window.b0 == c0 {
+            winner_right.set_start(cut);
+        } else if split {
+            let mut right = *winner_right;
+            right.set_start(cut);
+            winner_right.set_end(c0);
+            piece = Some((!left_is_0, right));
+        }
     }
     // The left winner loses (x, c1]: trim its end if it ends at c1.
     let cut = x + gap;
-    if winner_left.window.b1 == c1
-        && cut < c1
-        && beats_from(&winner_right.window, &winner_left.window, c1, cut, tol)
-    {
-        winner_left.set_end(cut);
+    if cut < c1 && beats_from(&winner_right.window, &winner_left.window, c1, cut, tol) {
+        if winner_left.window.b1 == c1 {
+            winner_left.set_end(cut);
+        } else if split && piece.is_none() {
+            let mut right = *winner_left;
+            right.set_start(c1);
+            winner_left.set_end(cut);
+            piece = Some((left_is_0, right));
+        }
     }
+    piece
 }
 
 /// Part of the overlap (relative to its width) left to both windows around
 /// their tie point.
 const TIE_GAP: f64 = 1e-9;
+
+/// The widest overlap two windows trimmed at their tie point can keep:
+/// `2·TIE_GAP` times the old overlap, which is at most twice the wider of
+/// the two trimmed windows.
+#[inline]
+fn tie_sliver(w0: &Window, w1: &Window) -> f64 {
+    4.0 * TIE_GAP * w0.width().max(w1.width())
+}
+
+/// Whether two windows on one edge overlap by more than a tie sliver.
+#[inline]
+fn overlap_beyond_sliver(w0: &Window, w1: &Window) -> bool {
+    w0.b1.min(w1.b1) - w0.b0.max(w1.b0) > tie_sliver(w0, w1)
+}
 
 /// The one point of `(c0, c1)` where two windows give equal distances, or
 /// `None` if there are zero or two there (then nothing is trimmed).
@@ -482,6 +517,189 @@ fn trim_loser(winner: &Window, loser: &mut EndedWindow, remove: PairOutcome) -> 
         }
         (true, true) => PairOutcome::KeepBoth,
     }
+}
+
+/// Rules 2 and 3 with the order-free merge (Section 4.2): `w` goes behind
+/// `list`, checked against the window before it, and on while it removes
+/// windows. A window that loses the middle of its interval is split
+/// ([`prune_adjacent_splitting`]). Returns whether `w` (or its right piece)
+/// was kept.
+#[inline]
+pub fn merge_behind(list: &mut Vec<EndedWindow>, mut w: EndedWindow, tol: &Tolerance) -> bool {
+    loop {
+        let Some(top) = list.last_mut() else {
+            list.push(w);
+            return true;
+        };
+        match prune_adjacent_splitting(top, &mut w, tol) {
+            SplitOutcome::Pair(PairOutcome::KeepBoth) => {
+                list.push(w);
+                return true;
+            }
+            SplitOutcome::Pair(PairOutcome::RemoveSecond) => return false,
+            SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
+                list.pop();
+            }
+            SplitOutcome::FirstSplit(right) => {
+                // [top's left piece, w, top's right piece]
+                list.push(w);
+                w = right;
+            }
+            SplitOutcome::SecondSplit(right) => {
+                // [w's left piece, top, w's right piece]
+                list.insert(list.len() - 1, w);
+                w = right;
+            }
+        }
+    }
+}
+
+/// Spare buffers for [`merge_sorted`], kept by a solver so merging
+/// allocates nothing once they have grown.
+#[derive(Debug, Default)]
+pub struct MergeBuffers {
+    /// The old windows that start after the first incoming one.
+    out: Vec<EndedWindow>,
+    /// Per window of the merged list: whether it is one of the incoming
+    /// windows.
+    out_new: Vec<bool>,
+    /// Right pieces cut off a window, waiting for their turn (sorted by
+    /// start, largest first).
+    pending: Vec<(EndedWindow, bool)>,
+}
+
+/// Rules 2 and 3 on lists kept in edge order (sorted by start): merges
+/// `incoming` (any order; it is sorted in place) into `list` in one linear
+/// pass, checking each window against the windows before it that it
+/// overlaps, and the nearest one it does not (Cases 3 and 6), trimming
+/// and splitting as [`prune_adjacent_splitting`]. Two windows that were
+/// both in `list` are not compared again.
+///
+/// Compared with the order-free merge ([`merge_behind`]), a window meets
+/// every window it overlaps, not just the one it happens to follow, so
+/// fewer redundant windows survive.
+pub fn merge_sorted(
+    list: &mut Vec<EndedWindow>,
+    incoming: &mut [EndedWindow],
+    buffers: &mut MergeBuffers,
+    tol: &Tolerance,
+) {
+    if incoming.is_empty() {
+        return;
+    }
+    incoming.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+    let MergeBuffers {
+        out: tail,
+        out_new,
+        pending,
+    } = buffers;
+    // Windows of `list` that start before every incoming one stay where
+    // they are; the rest (the tail) is merged with the incoming windows
+    // behind them.
+    let first = incoming[0].window.b0;
+    let keep = list.partition_point(|e| e.window.b0 <= first);
+    tail.clear();
+    tail.extend_from_slice(&list[keep..]);
+    list.truncate(keep);
+    out_new.clear();
+    out_new.resize(keep, false);
+    pending.clear();
+    let (mut i, mut j) = (0, 0);
+    loop {
+        // The next window in edge order among the tail, the incoming
+        // windows and the pending pieces (old first on ties).
+        let mut pick = 3;
+        let mut start = f64::INFINITY;
+        if let Some(e) = tail.get(i) {
+            pick = 0;
+            start = e.window.b0;
+        }
+        if let Some(e) = incoming.get(j)
+            && e.window.b0 < start
+        {
+            pick = 1;
+            start = e.window.b0;
+        }
+        if let Some((e, _)) = pending.last()
+            && e.window.b0 < start
+        {
+            pick = 2;
+        }
+        let (w, is_new) = match pick {
+            0 => {
+                i += 1;
+                (tail[i - 1], false)
+            }
+            1 => {
+                j += 1;
+                (incoming[j - 1], true)
+            }
+            2 => pending
+                .pop()
+                .expect("picked a pending piece, so there is one"),
+            _ => break,
+        };
+        push_checked(list, out_new, pending, w, is_new, tol);
+    }
+}
+
+/// One step of [`merge_sorted`]: `w` goes behind `out` after meeting the
+/// windows before it that it overlaps.
+#[inline]
+fn push_checked(
+    out: &mut Vec<EndedWindow>,
+    out_new: &mut Vec<bool>,
+    pending: &mut Vec<(EndedWindow, bool)>,
+    mut w: EndedWindow,
+    is_new: bool,
+    tol: &Tolerance,
+) {
+    let mut k = out.len();
+    let mut nearest = true;
+    while k > 0 {
+        k -= 1;
+        let overlaps = overlap_beyond_sliver(&out[k].window, &w.window);
+        if !overlaps && !nearest {
+            break;
+        }
+        nearest = false;
+        if !is_new && !out_new[k] {
+            // Both were in the list: already checked against each other.
+            if !overlaps {
+                break;
+            }
+            continue;
+        }
+        match prune_adjacent_splitting(&mut out[k], &mut w, tol) {
+            SplitOutcome::Pair(PairOutcome::KeepBoth) => {
+                if !overlaps {
+                    break;
+                }
+            }
+            SplitOutcome::Pair(PairOutcome::RemoveSecond) => return,
+            SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
+                out.remove(k);
+                out_new.remove(k);
+                // The window before the removed one is `w`'s nearest now.
+                nearest = k == out.len();
+            }
+            SplitOutcome::FirstSplit(right) => {
+                // `w` won the middle of `out[k]`, whose right piece starts
+                // where `w` ends: it waits for its turn.
+                let piece = (right, out_new[k]);
+                let at = pending.partition_point(|(e, _)| e.window.b0 > right.window.b0);
+                pending.insert(at, piece);
+            }
+            SplitOutcome::SecondSplit(right) => {
+                // `w` lies across `out[k]` (equal starts only): its left
+                // piece goes on, its right piece waits.
+                let at = pending.partition_point(|(e, _)| e.window.b0 > right.window.b0);
+                pending.insert(at, (right, is_new));
+            }
+        }
+    }
+    out.push(w);
+    out_new.push(is_new);
 }
 
 #[cfg(test)]
@@ -706,5 +924,96 @@ mod tests {
             PairOutcome::KeepBoth
         );
         assert_eq!((a.window.b0, a.window.b1), (0.0, 3.0));
+    }
+
+    #[test]
+    fn crossing_windows_split_at_their_tie_point_when_splitting() {
+        let t = tol();
+        // Equal σ, sources under 0.5 and 2.5: they tie at x = 1.5. `a`
+        // wins left of it and runs on past `b`, so it loses the middle.
+        let mut a = EndedWindow::new(win(0.0, 3.0, (0.5, -1.0), 0.0));
+        let mut b = EndedWindow::new(win(1.0, 2.0, (2.5, -1.0), 0.0));
+        match prune_adjacent_splitting(&mut a, &mut b, &t) {
+            SplitOutcome::FirstSplit(right) => {
+                assert!((a.window.b1 - 1.5).abs() < 1e-8 && a.window.b1 > 1.5);
+                assert_eq!((right.window.b0, right.window.b1), (2.0, 3.0));
+                assert!((b.window.b0 - 1.5).abs() < 1e-8 && b.window.b0 < 1.5);
+                assert_eq!(b.window.b1, 2.0);
+            }
+            other => panic!("expected a split, got {other:?}"),
+        }
+        // Without splitting `a` keeps its middle; `b` is still trimmed.
+        let mut a = EndedWindow::new(win(0.0, 3.0, (0.5, -1.0), 0.0));
+        let mut b = EndedWindow::new(win(1.0, 2.0, (2.5, -1.0), 0.0));
+        assert_eq!(
+            prune_adjacent_ended(&mut a, &mut b, &t),
+            PairOutcome::KeepBoth
+        );
+        assert_eq!((a.window.b0, a.window.b1), (0.0, 3.0));
+        assert!((b.window.b0 - 1.5).abs() < 1e-8);
+    }
+
+    fn starts(list: &[EndedWindow]) -> Vec<(f64, f64)> {
+        list.iter().map(|e| (e.window.b0, e.window.b1)).collect()
+    }
+
+    #[test]
+    fn merge_behind_removes_what_the_new_window_beats() {
+        let t = tol();
+        let mut list = vec![EndedWindow::new(win(0.0, 1.0, (0.5, -1.0), 0.0))];
+        // Far worse on all of [0, 1]: dropped.
+        assert!(!merge_behind(
+            &mut list,
+            EndedWindow::new(win(0.0, 1.0, (0.5, -1.0), 5.0)),
+            &t
+        ));
+        // Better on all of [0, 1]: it replaces the old one.
+        assert!(merge_behind(
+            &mut list,
+            EndedWindow::new(win(0.0, 1.0, (0.5, -0.5), 0.0)),
+            &t
+        ));
+        assert_eq!(list.len(), 1);
+        assert_eq!(list[0].window.p.y, -0.5);
+    }
+
+    #[test]
+    fn merge_sorted_keeps_edge_order_and_prunes_every_overlap() {
+        let t = tol();
+        let mut buffers = MergeBuffers::default();
+        let mut list = vec![
+            EndedWindow::new(win(0.0, 1.0, (0.5, -1.0), 0.0)),
+            EndedWindow::new(win(1.0, 2.0, (1.5, -1.0), 0.0)),
+        ];
+        // Out of order, one of them beaten on its whole interval by the
+        // two old windows together (each beats it on its own part).
+        let mut incoming = [
+            EndedWindow::new(win(2.0, 3.0, (2.5, -1.0), 0.0)),
+            EndedWindow::new(win(0.2, 0.9, (0.5, -1.0), 4.0)),
+            EndedWindow::new(win(1.1, 1.9, (1.5, -1.0), 4.0)),
+        ];
+        merge_sorted(&mut list, &mut incoming, &mut buffers, &t);
+        assert_eq!(starts(&list), vec![(0.0, 1.0), (1.0, 2.0), (2.0, 3.0)]);
+        // Merging nothing changes nothing.
+        merge_sorted(&mut list, &mut [], &mut buffers, &t);
+        assert_eq!(list.len(), 3);
+    }
+
+    #[test]
+    fn merge_sorted_splits_an_old_window_around_a_winner() {
+        let t = tol();
+        let mut buffers = MergeBuffers::default();
+        // The new window is shorter on all of [1, 2]; the old one's outer
+        // pieces are not beaten by walking along the edge from it.
+        let mut list = vec![EndedWindow::new(win(0.0, 3.0, (1.5, -1.0), 0.3))];
+        let mut incoming = [EndedWindow::new(win(1.0, 2.0, (1.5, -0.5), 0.5))];
+        merge_sorted(&mut list, &mut incoming, &mut buffers, &t);
+        assert_eq!(starts(&list), vec![(0.0, 1.0), (1.0, 2.0), (2.0, 3.0)]);
+        assert_eq!(list[1].window.sigma, 0.5);
+        assert_eq!(list[2].window.sigma, 0.3);
+        for e in &list {
+            assert_eq!(e.d0, e.window.distance_at(e.window.b0));
+            assert_eq!(e.d1, e.window.distance_at(e.window.b1));
+        }
     }
 }

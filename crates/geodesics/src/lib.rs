@@ -105,6 +105,7 @@ impl Algorithm {
         "ftp",
         "opvtp",
         "opftp",
+        "vtp-order-free",
         "vtp-mmp",
         "vtp-ch",
         "vtp-exhaustive",
@@ -302,7 +303,7 @@ mod tests {
         let err = "dijkstra".parse::<Algorithm>().unwrap_err();
         assert_eq!(
             err.to_string(),
-            "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-mmp, vtp-ch, \
+            "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-order-free, vtp-mmp, vtp-ch, \
              vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, ich, fwp-ch, pvtp, avtp, pavtp)"
         );
     }
