@@ -33,7 +33,9 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
-use geodesics_window::prune::{merge_behind, one_angle_two_sides, vertex_check_ended};
+use geodesics_window::prune::{
+    MergeBuffers, merge_sorted, one_angle_two_sides, vertex_check_ended,
+};
 use geodesics_window::{
     DistanceField, EndedWindow, FaceKind, NO_SOURCE, SolverSetup, Source, SourceStart, Stats,
     Tolerance, Triangle, Window, WindowReset, frame_coords, source_start, validate_sources,
@@ -81,13 +83,16 @@ fn lock(m: &ListPair) -> MutexGuard<'_, [Vec<EndedWindow>; 2]> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Appends `windows` to `list` with VTP's order-free merge
-/// ([`merge_behind`]). Returns the new length.
+/// Merges `windows` into `list` with VTP's default merge (lists kept in
+/// edge order, [`merge_sorted`]). Returns the new length.
 #[inline]
-fn prune_append(list: &mut Vec<EndedWindow>, windows: &[EndedWindow], tol: &Tolerance) -> usize {
-    for &w in windows {
-        merge_behind(list, w, tol);
-    }
+fn prune_append(
+    list: &mut Vec<EndedWindow>,
+    windows: &mut [EndedWindow],
+    buffers: &mut MergeBuffers,
+    tol: &Tolerance,
+) -> usize {
+    merge_sorted(list, windows, buffers, tol);
     list.len()
 }
 
@@ -218,6 +223,7 @@ struct Scratch {
     info: Vec<(f64, f64, f64)>,
     /// Emptied list buffers kept to give to lists that start anew.
     stash: Vec<Vec<EndedWindow>>,
+    merge: MergeBuffers,
 }
 
 /// One face job: emit the pseudo-source windows of its corners, then
@@ -265,7 +271,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
                 source,
             };
             out.emitted += 1;
-            append_beyond(sh, f, (j + 1) % 3, &[EndedWindow::new(w)], s, out);
+            append_beyond(sh, f, (j + 1) % 3, &mut [EndedWindow::new(w)], s, out);
         }
     }
     if job.mask == 0 {
@@ -286,9 +292,10 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         match kind {
             FaceKind::Proper => {
                 cross(sh, h, i, &mut list, &mut d, s, out);
-                let (left, right) = (std::mem::take(&mut s.left), std::mem::take(&mut s.right));
-                append_beyond(sh, f, (i + 2) % 3, &left, s, out);
-                append_beyond(sh, f, (i + 1) % 3, &right, s, out);
+                let (mut left, mut right) =
+                    (std::mem::take(&mut s.left), std::mem::take(&mut s.right));
+                append_beyond(sh, f, (i + 2) % 3, &mut left, s, out);
+                append_beyond(sh, f, (i + 1) % 3, &mut right, s, out);
                 s.left = left;
                 s.right = right;
             }
@@ -300,7 +307,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
                     } else {
                         Mesh::prev(h)
                     };
-                    append_beyond(sh, f, (other - 3 * f) as usize, &list, s, out);
+                    append_beyond(sh, f, (other - 3 * f) as usize, &mut list, s, out);
                 }
             }
             FaceKind::Blocked => {}
@@ -319,7 +326,7 @@ fn append_beyond(
     sh: &Shared<'_>,
     f: u32,
     e: usize,
-    windows: &[EndedWindow],
+    windows: &mut [EndedWindow],
     s: &mut Scratch,
     out: &mut JobOut,
 ) {
@@ -339,7 +346,7 @@ fn append_beyond(
         *list = spare;
     }
     let before = list.len();
-    let after = prune_append(list, windows, &sh.tol);
+    let after = prune_append(list, windows, &mut s.merge, &sh.tol);
     out.grown += after as i64 - before as i64;
     let mesh = sh.mesh;
     let queue = sh.verts[mesh.tail(t) as usize].inside || sh.verts[mesh.head(t) as usize].inside;
@@ -669,7 +676,7 @@ impl<'a> Solver<'a> {
                     source: i,
                 };
                 self.stats.windows_created += 1;
-                self.append_now(t, &[EndedWindow::new(w)]);
+                self.append_now(t, &mut [EndedWindow::new(w)]);
             }
         }
     }
@@ -723,13 +730,16 @@ impl<'a> Solver<'a> {
     // ------------------------------------------------------------ lists
 
     /// Appends to the main list of half-edge `h` outside a phase (seeds).
-    fn append_now(&mut self, h: u32, windows: &[EndedWindow]) {
+    fn append_now(&mut self, h: u32, windows: &mut [EndedWindow]) {
         let main = (self.faces[(h / 3) as usize].state[(h % 3) as usize] & 1) as usize;
         let list = &mut self.lists[h as usize]
             .get_mut()
             .unwrap_or_else(PoisonError::into_inner)[main];
         let before = list.len();
-        let after = prune_append(list, windows, &self.tol);
+        let scratch = self.scratch[0]
+            .get_mut()
+            .unwrap_or_else(PoisonError::into_inner);
+        let after = prune_append(list, windows, &mut scratch.merge, &self.tol);
         self.live = self.live + after as u64 - before as u64;
         self.stats.peak_live_windows = self.stats.peak_live_windows.max(self.live);
         let mesh = self.mesh;
