@@ -6,10 +6,10 @@ use std::time::Instant;
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::vertex_check;
 use geodesics_window::{
-    DistanceField, FaceKind, NO_SOURCE, SolverSetup, Source, SourceStart, Stats, Tolerance,
-    Triangle, Window, frame_coords, source_start, validate_sources,
+    DistanceField, FaceKind, NO_SOURCE, SolverSetup, Source, Stats, Tolerance, Triangle, Window,
+    seeds, validate_sources,
 };
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 
 use crate::queue::Queue;
 use crate::rules::{self, Angle, Corners};
@@ -138,28 +138,16 @@ impl<'a> Solver<'a> {
     // ---------------------------------------------------------------- seeds
 
     fn seed(&mut self, i: u32, source: &Source) {
-        let mesh = self.mesh;
-        match source_start(mesh, source) {
-            SourceStart::Vertex(v) => self.seed_vertex(i, v),
-            SourceStart::Point {
-                point,
-                faces,
-                edge_ends,
-            } => {
-                for v in edge_ends.into_iter().flatten() {
-                    self.force_pseudo(v);
-                }
-                for f in faces.into_iter().flatten() {
-                    // A point inside a zero-area face starts from its
-                    // corners: they become pseudo-sources.
-                    if edge_ends.is_none() && self.kind[f as usize] != FaceKind::Proper {
-                        for v in mesh.face(f) {
-                            self.force_pseudo(v);
-                        }
-                    }
-                    self.seed_point_in_face(i, f, point);
-                }
-            }
+        let seeds = seeds(self.mesh, &self.kind, source, i);
+        for &v in &seeds.pseudo {
+            self.force_pseudo(v);
+        }
+        for &(v, d) in &seeds.distances {
+            self.relax(v, d, i);
+        }
+        for &(t, w) in &seeds.windows {
+            self.stats.windows_created += 1;
+            self.push_window(w, t, false);
         }
     }
 
@@ -170,41 +158,6 @@ impl<'a> Solver<'a> {
             for k in 0..self.groups[g as usize].len() {
                 let u = self.groups[g as usize][k];
                 self.pseudo[u as usize] = true;
-            }
-        }
-    }
-
-    fn seed_vertex(&mut self, i: u32, v: u32) {
-        self.force_pseudo(v);
-        self.relax(v, 0.0, i);
-    }
-
-    /// A point source `q` in the closed face `f`: one window with source `q`
-    /// on each edge of `f` not containing `q`, lighting the next face; the
-    /// corners get their straight distances.
-    fn seed_point_in_face(&mut self, i: u32, f: u32, q: DVec3) {
-        let mesh = self.mesh;
-        for h in 3 * f..3 * f + 3 {
-            let v = mesh.tail(h);
-            self.relax(v, mesh.position(v).distance(q), i);
-        }
-        if self.kind[f as usize] != FaceKind::Proper {
-            return;
-        }
-        for h in 3 * f..3 * f + 3 {
-            let Some(t) = mesh.twin(h) else { continue };
-            let c = frame_coords(mesh, h, q);
-            let l = mesh.length(h);
-            if c.y > 0.0 {
-                let w = Window {
-                    b0: 0.0,
-                    b1: l,
-                    p: DVec2::new(l - c.x, -c.y),
-                    sigma: 0.0,
-                    source: i,
-                };
-                self.stats.windows_created += 1;
-                self.push_window(w, t, false);
             }
         }
     }

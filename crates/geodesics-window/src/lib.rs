@@ -59,7 +59,9 @@ mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
 pub use setup::{FaceKind, NO_GROUP, SolverSetup, face_kind};
-pub use sources::{SourceError, SourceStart, barycentric_ok, source_start, validate_sources};
+pub use sources::{
+    Seeds, SourceError, SourceStart, barycentric_ok, seeds, source_start, validate_sources,
+};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
 pub use window::{EndedWindow, Triangle, Window, frame_coords};

@@ -1,10 +1,11 @@
-//! Checking the sources and common settings every solver takes.
+//! Checking the sources and common settings every solver takes, and how
+//! each source seeds a wavefront.
 
 use geodesics_mesh::Mesh;
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use thiserror::Error;
 
-use crate::{Source, Tolerance};
+use crate::{FaceKind, Source, Tolerance, Window, frame_coords};
 
 /// Why a solve's sources or distance limit were refused. Every variant
 /// names the offending source (its index in the `sources` slice) and value.
@@ -218,5 +219,153 @@ pub fn source_start(mesh: &Mesh, source: &Source) -> SourceStart {
                 edge_ends: None,
             }
         }
+    }
+}
+
+/// How a solver starts from one source, whatever its own data layout.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Seeds {
+    /// Vertices that must act as pseudo-sources (a solver marks their pinch
+    /// copies too): the source vertex, the ends of the edge holding an edge
+    /// point, the corners of a zero-area face holding a point.
+    pub pseudo: Vec<u32>,
+    /// `(vertex, distance)`: the source vertex at 0, or the corners of the
+    /// face(s) holding a point at their straight distances.
+    pub distances: Vec<(u32, f64)>,
+    /// `(half-edge, window)`: for a point inside a proper face, one window
+    /// per edge of that face not containing the point, on the half-edge
+    /// across it (lighting the next face) with the point as its source.
+    pub windows: Vec<(u32, Window)>,
+}
+
+/// The [`Seeds`] of source number `index` (checked by
+/// [`validate_sources`]), on a mesh whose faces have the kinds `kind` (see
+/// [`crate::SolverSetup`]).
+pub fn seeds(mesh: &Mesh, kind: &[FaceKind], source: &Source, index: u32) -> Seeds {
+    let mut seeds = Seeds::default();
+    match source_start(mesh, source) {
+        SourceStart::Vertex(v) => {
+            seeds.pseudo.push(v);
+            seeds.distances.push((v, 0.0));
+        }
+        SourceStart::Point {
+            point,
+            faces,
+            edge_ends,
+        } => {
+            seeds.pseudo.extend(edge_ends.into_iter().flatten());
+            for f in faces.into_iter().flatten() {
+                let proper = kind[f as usize] == FaceKind::Proper;
+                // A point inside a zero-area face starts from its corners:
+                // they become pseudo-sources.
+                if edge_ends.is_none() && !proper {
+                    seeds.pseudo.extend(mesh.face(f));
+                }
+                for v in mesh.face(f) {
+                    seeds.distances.push((v, mesh.position(v).distance(point)));
+                }
+                if !proper {
+                    continue;
+                }
+                for h in 3 * f..3 * f + 3 {
+                    let Some(t) = mesh.twin(h) else { continue };
+                    let c = frame_coords(mesh, h, point);
+                    let l = mesh.length(h);
+                    if c.y > 0.0 {
+                        // The point in the frame of the half-edge across.
+                        let window = Window {
+                            b0: 0.0,
+                            b1: l,
+                            p: DVec2::new(l - c.x, -c.y),
+                            sigma: 0.0,
+                            source: index,
+                        };
+                        seeds.windows.push((t, window));
+                    }
+                }
+            }
+        }
+    }
+    seeds
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SolverSetup;
+    use geodesics_mesh::{BuildOptions, IndexedTriangles};
+
+    /// The unit square split along its diagonal 0-2.
+    fn square() -> Mesh {
+        let soup = IndexedTriangles {
+            positions: vec![
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        Mesh::build(soup, &BuildOptions::default()).expect("a valid square")
+    }
+
+    #[test]
+    fn a_vertex_source_is_a_pseudo_source_at_zero() {
+        let mesh = square();
+        let kind = SolverSetup::new(&mesh, &Tolerance::for_mesh(&mesh)).kind;
+        let s = seeds(&mesh, &kind, &Source::Vertex(3), 0);
+        assert_eq!(s.pseudo, vec![3]);
+        assert_eq!(s.distances, vec![(3, 0.0)]);
+        assert!(s.windows.is_empty());
+    }
+
+    #[test]
+    fn a_face_point_lights_the_faces_across_its_edges() {
+        let mesh = square();
+        let kind = SolverSetup::new(&mesh, &Tolerance::for_mesh(&mesh)).kind;
+        let third = 1.0 / 3.0;
+        let source = Source::FacePoint {
+            face: 0,
+            barycentric: [third, third, third],
+        };
+        let s = seeds(&mesh, &kind, &source, 7);
+        assert!(s.pseudo.is_empty());
+        let q = DVec3::new(2.0 / 3.0, 1.0 / 3.0, 0.0);
+        assert_eq!(s.distances.len(), 3);
+        for &(v, d) in &s.distances {
+            assert!((d - mesh.position(v).distance(q)).abs() < 1e-15);
+        }
+        // Only the diagonal has a face across it: one window there, the
+        // whole edge, lit from the point (at distance |q - diagonal|).
+        assert_eq!(s.windows.len(), 1);
+        let (t, w) = s.windows[0];
+        assert_eq!(Mesh::face_of(t), 1);
+        assert_eq!((w.b0, w.b1, w.sigma, w.source), (0.0, 2f64.sqrt(), 0.0, 7));
+        assert!((w.p.y + (1.0 / 3.0) / 2f64.sqrt()).abs() < 1e-15, "{w:?}");
+    }
+
+    #[test]
+    fn an_edge_point_makes_the_edge_ends_pseudo_sources() {
+        let mesh = square();
+        let kind = SolverSetup::new(&mesh, &Tolerance::for_mesh(&mesh)).kind;
+        // The middle of the diagonal, seen from both faces.
+        let h = (0..6)
+            .find(|&h| mesh.tail(h) == 0 && mesh.head(h) == 2)
+            .expect("diagonal");
+        let s = seeds(
+            &mesh,
+            &kind,
+            &Source::EdgePoint {
+                half_edge: h,
+                t: 0.5,
+            },
+            0,
+        );
+        let mut ends = s.pseudo.clone();
+        ends.sort_unstable();
+        assert_eq!(ends, vec![0, 2]);
+        assert_eq!(s.distances.len(), 6);
+        // Both faces' other edges are on the boundary: no windows.
+        assert!(s.windows.is_empty());
     }
 }
