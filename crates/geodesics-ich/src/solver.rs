@@ -332,27 +332,8 @@ impl<'a> Solver<'a> {
     }
 
     fn finish(self) -> DistanceField {
-        let mesh = self.mesh;
-        let n = mesh.input_vertex_count();
-        let mut distance = self.dist[..n].to_vec();
-        let mut nearest_source = self.src[..n].to_vec();
-        for v in n..mesh.vertex_count() {
-            let o = mesh.pinch_origin(v as u32) as usize;
-            if self.dist[v] < distance[o] {
-                distance[o] = self.dist[v];
-                nearest_source[o] = self.src[v];
-            }
-        }
-        for (d, s) in distance.iter_mut().zip(nearest_source.iter_mut()) {
-            let beyond = self.options.max_distance.is_some_and(|m| *d > m);
-            if !d.is_finite() || beyond {
-                *d = f64::INFINITY;
-                *s = NO_SOURCE;
-            }
-        }
-        DistanceField {
-            distance,
-            nearest_source,
-        }
+        DistanceField::from_vertices(self.mesh, self.options.max_distance, |v| {
+            (self.dist[v], self.src[v])
+        })
     }
 }

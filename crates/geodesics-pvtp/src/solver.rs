@@ -406,19 +406,7 @@ fn cross(
     let mut best = f64::INFINITY;
     let mut k = 0;
     for (j, e) in list.iter().enumerate() {
-        let w = &e.window;
-        // The apex through the window (Section 4.1's `dis`): straight when
-        // visible, else bent at the nearer end (ends are cached).
-        let t = w.split_parameter(&tri);
-        let (dj, sp) = if t < w.b0 {
-            (e.d0 + DVec2::new(w.b0, 0.0).distance(tri.c), w.b0)
-        } else if t > w.b1 {
-            (e.d1 + DVec2::new(w.b1, 0.0).distance(tri.c), w.b1)
-        } else if t >= w.b0 {
-            (w.distance_to(tri.c), t)
-        } else {
-            (f64::INFINITY, w.b0) // NaN split: the window lights nothing
-        };
+        let (t, sp, dj) = e.apex_path(&tri);
         info.push((t, sp, dj));
         if dj < best {
             best = dj;
@@ -976,24 +964,10 @@ impl<'a> Solver<'a> {
     }
 
     pub(crate) fn finish(mut self, start: Instant) -> (DistanceField, Stats) {
-        let mesh = self.mesh;
-        let n = mesh.input_vertex_count();
-        let mut distance: Vec<f64> = self.verts[..n].iter().map(|x| x.dist).collect();
-        let mut nearest_source: Vec<u32> = self.verts[..n].iter().map(|x| x.src).collect();
-        for v in n..mesh.vertex_count() {
-            let o = mesh.pinch_origin(v as u32) as usize;
-            if self.verts[v].dist < distance[o] {
-                distance[o] = self.verts[v].dist;
-                nearest_source[o] = self.verts[v].src;
-            }
-        }
-        for (d, s) in distance.iter_mut().zip(nearest_source.iter_mut()) {
-            let beyond = self.max_distance.is_some_and(|m| *d > m);
-            if !d.is_finite() || beyond {
-                *d = f64::INFINITY;
-                *s = NO_SOURCE;
-            }
-        }
+        let verts = &self.verts;
+        let field = DistanceField::from_vertices(self.mesh, self.max_distance, |v| {
+            (verts[v].dist, verts[v].src)
+        });
         let mut stats = std::mem::take(&mut self.stats);
         stats.total_seconds = start.elapsed().as_secs_f64();
         stats.propagation_seconds = self.parallel_seconds;
@@ -1001,13 +975,7 @@ impl<'a> Solver<'a> {
         stats.management_seconds = (stats.total_seconds - self.parallel_seconds).max(0.0);
         stats.peak_window_bytes =
             stats.peak_live_windows * std::mem::size_of::<EndedWindow>() as u64;
-        (
-            DistanceField {
-                distance,
-                nearest_source,
-            },
-            stats,
-        )
+        (field, stats)
     }
 }
 

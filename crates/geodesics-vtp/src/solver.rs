@@ -663,19 +663,7 @@ impl<'a> Solver<'a> {
         let mut best = f64::INFINITY;
         let mut s = 0;
         for (i, e) in list.iter().enumerate() {
-            let w = &e.window;
-            // The apex through the window (Section 4.1's `dis`): straight
-            // when visible, else bent at the nearer end (ends are cached).
-            let t = w.split_parameter(&tri);
-            let (d, sp) = if t < w.b0 {
-                (e.d0 + DVec2::new(w.b0, 0.0).distance(tri.c), w.b0)
-            } else if t > w.b1 {
-                (e.d1 + DVec2::new(w.b1, 0.0).distance(tri.c), w.b1)
-            } else if t >= w.b0 {
-                (w.distance_to(tri.c), t)
-            } else {
-                (f64::INFINITY, w.b0) // NaN split: the window lights nothing
-            };
+            let (t, sp, d) = e.apex_path(&tri);
             info.push((t, sp, d));
             if d < best {
                 best = d;
@@ -766,28 +754,9 @@ impl<'a> Solver<'a> {
     }
 
     fn finish(self) -> DistanceField {
-        let mesh = self.mesh;
-        let n = mesh.input_vertex_count();
-        let mut distance = self.dist[..n].to_vec();
-        let mut nearest_source = self.src[..n].to_vec();
-        for v in n..mesh.vertex_count() {
-            let o = mesh.pinch_origin(v as u32) as usize;
-            if self.dist[v] < distance[o] {
-                distance[o] = self.dist[v];
-                nearest_source[o] = self.src[v];
-            }
-        }
-        for (d, s) in distance.iter_mut().zip(nearest_source.iter_mut()) {
-            let beyond = self.options.max_distance.is_some_and(|m| *d > m);
-            if !d.is_finite() || beyond {
-                *d = f64::INFINITY;
-                *s = NO_SOURCE;
-            }
-        }
-        DistanceField {
-            distance,
-            nearest_source,
-        }
+        DistanceField::from_vertices(self.mesh, self.options.max_distance, |v| {
+            (self.dist[v], self.src[v])
+        })
     }
 }
 

@@ -1,5 +1,7 @@
 //! Types shared by every solver: sources, the distance field, statistics.
 
+use geodesics_mesh::Mesh;
+
 /// Where a geodesic distance field starts. Several sources make one field:
 /// the distance to the nearest of them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,6 +40,40 @@ pub struct DistanceField {
     /// Index into the sources of the nearest source, [`NO_SOURCE`] where
     /// unreachable.
     pub nearest_source: Vec<u32>,
+}
+
+impl DistanceField {
+    /// The field a solver reports from its per-vertex state over all of the
+    /// mesh's vertices (pinch copies included): `vertex(v)` gives the
+    /// distance and nearest source of vertex `v`. Each input vertex takes
+    /// the shortest of its pinch copies; distances that are not finite or
+    /// lie beyond `max_distance` become unreachable.
+    pub fn from_vertices(
+        mesh: &Mesh,
+        max_distance: Option<f64>,
+        vertex: impl Fn(usize) -> (f64, u32),
+    ) -> DistanceField {
+        let n = mesh.input_vertex_count();
+        let (mut distance, mut nearest_source): (Vec<f64>, Vec<u32>) = (0..n).map(&vertex).unzip();
+        for v in n..mesh.vertex_count() {
+            let o = mesh.pinch_origin(v as u32) as usize;
+            let (d, s) = vertex(v);
+            if d < distance[o] {
+                distance[o] = d;
+                nearest_source[o] = s;
+            }
+        }
+        for (d, s) in distance.iter_mut().zip(nearest_source.iter_mut()) {
+            if !d.is_finite() || max_distance.is_some_and(|m| *d > m) {
+                *d = f64::INFINITY;
+                *s = NO_SOURCE;
+            }
+        }
+        DistanceField {
+            distance,
+            nearest_source,
+        }
+    }
 }
 
 /// What a solve did, counted the way the papers count it.

@@ -102,6 +102,27 @@ impl EndedWindow {
         }
     }
 
+    /// Rule 1's view of the apex `C` through this window (Section 4.1's
+    /// `dis`): `(t, sp, d)`, the split parameter, the separating point and
+    /// the length of the path to `C`, straight when `C` is visible through
+    /// the window, else bent at the nearer end (whose distance is cached).
+    /// A NaN split (the window lights nothing) gives an infinite length.
+    #[inline]
+    pub fn apex_path(&self, tri: &Triangle) -> (f64, f64, f64) {
+        let w = &self.window;
+        let t = w.split_parameter(tri);
+        let (d, sp) = if t < w.b0 {
+            (self.d0 + DVec2::new(w.b0, 0.0).distance(tri.c), w.b0)
+        } else if t > w.b1 {
+            (self.d1 + DVec2::new(w.b1, 0.0).distance(tri.c), w.b1)
+        } else if t >= w.b0 {
+            (w.distance_to(tri.c), t)
+        } else {
+            (f64::INFINITY, w.b0)
+        };
+        (t, sp, d)
+    }
+
     /// Moves the start of the interval to `b0`.
     #[inline]
     pub fn set_start(&mut self, b0: f64) {
