@@ -454,13 +454,7 @@ impl<'a> Solver<'a> {
             let Some(t) = mesh.twin(o) else { continue };
             let l = mesh.length(o);
             let c = self.apex[o as usize];
-            let w = Window {
-                b0: 0.0,
-                b1: l,
-                p: DVec2::new(l - c.x, -c.y),
-                sigma: d,
-                source: s,
-            };
+            let w = Window::across_edge(l, c, d, s);
             self.insert(t, &w, NONE, v);
         }
     }

@@ -263,13 +263,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
             }
             let l = mesh.length(o);
             let c = sh.apex[o as usize];
-            let w = Window {
-                b0: 0.0,
-                b1: l,
-                p: DVec2::new(l - c.x, -c.y),
-                sigma,
-                source,
-            };
+            let w = Window::across_edge(l, c, sigma, source);
             out.emitted += 1;
             append_beyond(sh, f, (j + 1) % 3, &mut [EndedWindow::new(w)], s, out);
         }

@@ -2,7 +2,7 @@
 //! each source seeds a wavefront.
 
 use geodesics_mesh::Mesh;
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use thiserror::Error;
 
 use crate::{FaceKind, Source, Tolerance, Window, frame_coords};
@@ -272,14 +272,7 @@ pub fn seeds(mesh: &Mesh, kind: &[FaceKind], source: &Source, index: u32) -> See
                     let c = frame_coords(mesh, h, point);
                     let l = mesh.length(h);
                     if c.y > 0.0 {
-                        // The point in the frame of the half-edge across.
-                        let window = Window {
-                            b0: 0.0,
-                            b1: l,
-                            p: DVec2::new(l - c.x, -c.y),
-                            sigma: 0.0,
-                            source: index,
-                        };
+                        let window = Window::across_edge(l, c, 0.0, index);
                         seeds.windows.push((t, window));
                     }
                 }

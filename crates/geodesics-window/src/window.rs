@@ -29,6 +29,24 @@ pub struct Window {
 }
 
 impl Window {
+    /// The full-edge window a point lights on the half-edge across edge
+    /// `h` of length `l`: `q` is the point in `h`'s frame (in `h`'s face,
+    /// so `q.y ≥ 0`), reached at distance `sigma` from source `source`. In
+    /// the twin's frame the edge runs the other way and the face is below,
+    /// so the point sits at `(l − q.x, −q.y)`. Pseudo-source vertices use it
+    /// with their position as `q` (the apex of the half-edge opposite them),
+    /// point sources with theirs.
+    #[inline]
+    pub fn across_edge(l: f64, q: DVec2, sigma: f64, source: u32) -> Window {
+        Window {
+            b0: 0.0,
+            b1: l,
+            p: DVec2::new(l - q.x, -q.y),
+            sigma,
+            source,
+        }
+    }
+
     /// Distance to the source of the point at `x` on the edge through this
     /// window's pseudo-source: `σ + |p − (x, 0)|`.
     #[inline]
@@ -479,5 +497,18 @@ mod tests {
             win(0.0, 2.0, DVec2::new(1.0, -1.0)).propagate(&flat),
             (None, None)
         );
+    }
+
+    #[test]
+    fn a_window_across_an_edge_sees_the_point_from_the_other_side() {
+        // Edge of length 2, point q = (0.5, 1) above it in its frame.
+        let q = DVec2::new(0.5, 1.0);
+        let w = Window::across_edge(2.0, q, 3.0, 7);
+        assert_eq!((w.b0, w.b1, w.sigma, w.source), (0.0, 2.0, 3.0, 7));
+        // The twin runs from the head (2, 0) back to the tail (0, 0).
+        let (head, tail) = (DVec2::new(2.0, 0.0), DVec2::ZERO);
+        assert!((w.distance_at(0.0) - (3.0 + q.distance(head))).abs() < 1e-15);
+        assert!((w.distance_at(2.0) - (3.0 + q.distance(tail))).abs() < 1e-15);
+        assert!(w.lights_face());
     }
 }
