@@ -113,12 +113,21 @@ pub fn vertex_check_ended(
     tol: &Tolerance,
 ) -> bool {
     let (b0, b1) = (w.window.b0, w.window.b1);
-    if tol.beats(d_start + b1, w.d1) || tol.beats(d_end + (len - b0), w.d0) {
-        return true;
-    }
-    d_third.is_finite()
-        && tol.beats(d_third + third.distance(DVec2::new(b0, 0.0)), w.d0)
-        && tol.beats(d_third + third.distance(DVec2::new(b1, 0.0)), w.d1)
+    // Non-short-circuit `|` and `&`: every test is a few flops, cheaper
+    // than a mispredicted branch.
+    (tol.beats(d_start + b1, w.d1) | tol.beats(d_end + (len - b0), w.d0))
+        | (reach_beats(d_third, third, b0, w.d0, tol) & reach_beats(d_third, third, b1, w.d1, tol))
+}
+
+/// Whether the path to `(x, 0)` through the point `from` (reached at
+/// distance `d_from`) beats `target` by the margin:
+/// `tol.beats(d_from + |from − (x, 0)|, target)`, decided on squares so no
+/// square root is taken (the rounding differs by a few ulps, far inside
+/// the margin).
+#[inline]
+fn reach_beats(d_from: f64, from: DVec2, x: f64, target: f64, tol: &Tolerance) -> bool {
+    let room = target - tol.margin(target) - d_from;
+    (room > 0.0) & (from.distance_squared(DVec2::new(x, 0.0)) < room * room)
 }
 
 /// Which of two windows on the same edge (same frame) is shorter on their
@@ -175,19 +184,15 @@ fn compare_on_overlap(
         // their tie point (comparing them again would settle nothing).
         return (Dominance::Disjoint, [f64::NAN; 4]);
     }
-    let at = |e: &EndedWindow, x: f64| {
-        if x == e.window.b0 {
-            e.d0
-        } else if x == e.window.b1 {
-            e.d1
-        } else {
-            e.window.distance_at(x)
-        }
-    };
-    let ends = [at(e0, c0), at(e1, c0), at(e0, c1), at(e1, c1)];
-    let [a0, a1, b0, b1] = ends;
-    let mut first = tol.beats(a0, a1) && tol.beats(b0, b1);
-    let mut second = tol.beats(a1, a0) && tol.beats(b1, b0);
+    // Each overlap end is an end of one window, whose cached distance is
+    // the same computation bit for bit: computing all four costs two
+    // independent square roots more than reading two caches, and no
+    // unpredictable branch.
+    let (a0, a1) = (w0.distance_at(c0), w1.distance_at(c0));
+    let (b0, b1) = (w0.distance_at(c1), w1.distance_at(c1));
+    let ends = [a0, a1, b0, b1];
+    let mut first = tol.beats(a0, a1) & tol.beats(b0, b1);
+    let mut second = tol.beats(a1, a0) & tol.beats(b1, b0);
     if !first && !second {
         return (Dominance::Neither, ends);
     }
@@ -380,8 +385,8 @@ fn trim_at_tie(
     let [a0, a1, b0, b1] = ends;
     // They cross once only if the shorter one changes between the ends,
     // each end decided by more than the margin.
-    let left_is_0 = tol.beats(a0, a1) && tol.beats(b1, b0);
-    let left_is_1 = tol.beats(a1, a0) && tol.beats(b0, b1);
+    let left_is_0 = tol.beats(a0, a1) & tol.beats(b1, b0);
+    let left_is_1 = tol.beats(a1, a0) & tol.beats(b0, b1);
     if !left_is_0 && !left_is_1 {
         return None;
     }
@@ -607,7 +612,7 @@ pub fn merge_sorted(
     if incoming.is_empty() {
         return;
     }
-    incoming.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+    sort_by_start(incoming);
     let MergeBuffers {
         out: tail,
         out_new,
@@ -660,6 +665,28 @@ pub fn merge_sorted(
             _ => break,
         };
         push_checked(list, out_new, pending, w, is_new, tol);
+    }
+}
+
+/// Sorts windows by start. A propagated list's children come out nearly
+/// in edge order (their parents were), so an insertion sort does about one
+/// comparison per window; long runs, where a bad order could cost
+/// quadratic time, go to the library's sort.
+#[inline]
+fn sort_by_start(windows: &mut [EndedWindow]) {
+    const INSERTION_MAX: usize = 32;
+    if windows.len() > INSERTION_MAX {
+        windows.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+        return;
+    }
+    for i in 1..windows.len() {
+        let w = windows[i];
+        let mut k = i;
+        while k > 0 && windows[k - 1].window.b0 > w.window.b0 {
+            windows[k] = windows[k - 1];
+            k -= 1;
+        }
+        windows[k] = w;
     }
 }
 
@@ -995,6 +1022,47 @@ mod tests {
         ));
         assert_eq!(list.len(), 1);
         assert_eq!(list[0].window.p.y, -0.5);
+    }
+
+    #[test]
+    fn reaching_through_a_point_is_decided_on_squares_as_with_the_root() {
+        let t = tol();
+        let from = DVec2::new(0.3, -0.4);
+        // |from - (0.3 + 0.3, 0)| = 0.5 exactly in reals.
+        let x = 0.6;
+        for (d_from, target) in [
+            (1.0, 1.6),           // clearly beats
+            (1.0, 1.4),           // clearly loses
+            (1.0, 1.5),           // a tie: no margin, no discard
+            (1.0, 1.5 + 1e-9),    // beats by far more than the margin
+            (f64::INFINITY, 2.0), // an unreached vertex beats nothing
+            (0.0, f64::INFINITY), // anything beats an infinite distance
+        ] {
+            let with_root = t.beats(d_from + from.distance(DVec2::new(x, 0.0)), target);
+            assert_eq!(
+                reach_beats(d_from, from, x, target, &t),
+                with_root,
+                "{d_from} -> {target}"
+            );
+        }
+    }
+
+    #[test]
+    fn windows_are_sorted_by_start_short_or_long() {
+        for n in [0usize, 1, 5, 31, 32, 33, 100] {
+            // Reversed: the worst order for the insertion sort.
+            let mut ws: Vec<EndedWindow> = (0..n)
+                .map(|i| {
+                    EndedWindow::new(win((n - i) as f64, (n - i) as f64 + 0.5, (0.0, -1.0), 0.0))
+                })
+                .collect();
+            sort_by_start(&mut ws);
+            assert!(
+                ws.windows(2).all(|p| p[0].window.b0 <= p[1].window.b0),
+                "n = {n}"
+            );
+            assert_eq!(ws.len(), n);
+        }
     }
 
     #[test]
