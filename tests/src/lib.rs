@@ -12,10 +12,12 @@
 //! ```
 
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashSet};
 use std::path::{Path, PathBuf};
 
-use geodesics_mesh::Mesh;
+use geodesics_mesh::{BuildOptions, Mesh};
+use geodesics_window::Source;
+use serde_json::Value;
 
 /// The folder of real meshes, or `None` (after printing a loud SKIPPED line
 /// naming `what`) when it is absent.
@@ -57,6 +59,114 @@ pub fn read_distances(path: &Path) -> Vec<f64> {
     let text = std::fs::read_to_string(path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     parse_distances(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Reads and builds a mesh file, panicking with the reader's or the
+/// builder's message (tests only).
+pub fn load_mesh(path: &Path, weld: bool) -> Mesh {
+    let soup = geodesics_io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
+    Mesh::build(soup, &BuildOptions { weld }).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// One mesh of the reference manifest (`reference/manifest.json`, or
+/// `reference/synthetic/manifest.json`), loaded, with its reference files.
+pub struct ReferenceMesh {
+    /// The mesh, welded when the manifest key ends in `.welded`.
+    pub mesh: Mesh,
+    /// The mesh's file name (the key without `.welded`).
+    pub file: String,
+    /// Its reference files, in manifest order (by name).
+    pub files: Vec<ReferenceFile>,
+    /// Seconds spent reading and building the mesh.
+    pub load_seconds: f64,
+}
+
+/// One reference distance file of the manifest.
+pub struct ReferenceFile {
+    /// File name, e.g. `bunny.off.src0.txt`.
+    pub name: String,
+    /// The source vertices it was computed from (distance to the nearest).
+    pub sources: Vec<Source>,
+    /// The largest finite distance in it (the scale of the error bar).
+    pub max_finite: f64,
+    /// Vertices gdist wrongly left unreached (a solver must reach them).
+    pub oracle_misses: HashSet<usize>,
+    path: PathBuf,
+}
+
+impl ReferenceFile {
+    /// Reads the reference distances, one per vertex in file numbering.
+    pub fn distances(&self) -> Vec<f64> {
+        read_distances(&self.path)
+    }
+}
+
+/// Loads manifest entry `key` (for example `bunny.off` or
+/// `dragon.ply.welded`; `synthetic` for the meshes under `synthetic/`), or
+/// `None` after a loud SKIPPED line naming `what` when the mesh folder is
+/// absent. Panics if the key is not in the manifest: a test that names a
+/// mesh must check it.
+pub fn reference_mesh(what: &str, key: &str, synthetic: bool) -> Option<ReferenceMesh> {
+    let data = data_dir(what)?;
+    let (mut refdir, mut meshdir) = (reference_dir(&data), data);
+    if synthetic {
+        refdir = refdir.join("synthetic");
+        meshdir = meshdir.join("synthetic");
+    }
+    let manifest_path = refdir.join("manifest.json");
+    let text = std::fs::read_to_string(&manifest_path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", manifest_path.display()));
+    let manifest: Value =
+        serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", manifest_path.display()));
+    let entry = &manifest["meshes"][key];
+    assert!(
+        entry.is_object(),
+        "{key} not in {}",
+        manifest_path.display()
+    );
+    let (file, weld) = match key.strip_suffix(".welded") {
+        Some(f) => (f, true),
+        None => (key, false),
+    };
+    let start = std::time::Instant::now();
+    let mesh = load_mesh(&meshdir.join(file), weld);
+    let load_seconds = start.elapsed().as_secs_f64();
+    let files = entry["files"]
+        .as_object()
+        .unwrap_or_else(|| panic!("{key}: no files in the manifest"))
+        .iter()
+        .map(|(name, info)| {
+            let vertex = |v: &Value| {
+                v.as_u64()
+                    .unwrap_or_else(|| panic!("{name}: a source is not a vertex index"))
+                    as u32
+            };
+            ReferenceFile {
+                name: name.clone(),
+                sources: info["sources"]
+                    .as_array()
+                    .unwrap_or_else(|| panic!("{name}: no sources"))
+                    .iter()
+                    .map(|v| Source::Vertex(vertex(v)))
+                    .collect(),
+                max_finite: info["max_finite"]
+                    .as_f64()
+                    .unwrap_or_else(|| panic!("{name}: no max_finite")),
+                oracle_misses: info
+                    .get("oracle_misses")
+                    .and_then(Value::as_array)
+                    .map(|a| a.iter().map(|v| vertex(v) as usize).collect())
+                    .unwrap_or_default(),
+                path: refdir.join(name),
+            }
+        })
+        .collect();
+    Some(ReferenceMesh {
+        mesh,
+        file: file.to_string(),
+        files,
+        load_seconds,
+    })
 }
 
 /// Expected statistics of one real mesh, from the table in the meshes' README.

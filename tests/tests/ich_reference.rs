@@ -17,26 +17,18 @@
 //!   at a few vertices (`vtp_reference.rs` walks our VTP's paths there),
 //!   ours may differ from gdist only where it agrees with our VTP.
 
-use std::collections::HashSet;
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use geodesics_ich::{IchOptions, Schedule};
-use geodesics_mesh::{BuildOptions, Mesh};
-use geodesics_tests::{data_dir, read_distances, reference_dir};
+use geodesics_mesh::Mesh;
+use geodesics_tests::{data_dir, load_mesh, reference_mesh};
 use geodesics_vtp::VtpOptions;
 use geodesics_window::Source;
-use serde_json::Value;
 
 const REL: f64 = 1e-12;
 
 const SCHEDULES: [(Schedule, &str); 2] =
     [(Schedule::PriorityQueue, "ich"), (Schedule::Fwp, "fwp-ch")];
-
-fn load(path: &Path, weld: bool) -> Mesh {
-    let soup = geodesics_io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
-    Mesh::build(soup, &BuildOptions { weld }).unwrap_or_else(|e| panic!("{e}"))
-}
 
 fn vtp(mesh: &Mesh, sources: &[Source], limit: Option<f64>) -> (Vec<f64>, u64) {
     let options = VtpOptions {
@@ -74,65 +66,38 @@ fn check(
     schedules: &[(Schedule, &str)],
     limit: Option<f64>,
 ) {
-    let Some(data) = data_dir(&format!("ich_reference {key}")) else {
+    let Some(case) = reference_mesh(&format!("ich_reference {key}"), key, synthetic) else {
         return;
     };
-    let mut refdir = reference_dir(&data);
-    let mut meshdir = data.clone();
-    if synthetic {
-        refdir = refdir.join("synthetic");
-        meshdir = meshdir.join("synthetic");
-    }
-    let manifest: Value = serde_json::from_str(
-        &std::fs::read_to_string(refdir.join("manifest.json")).expect("manifest.json"),
-    )
-    .expect("manifest.json is JSON");
-    let entry = &manifest["meshes"][key];
-    assert!(entry.is_object(), "{key} not in the manifest");
-    let (file, weld) = match key.strip_suffix(".welded") {
-        Some(f) => (f, true),
-        None => (key, false),
-    };
-    let gdist_known_wrong = file.starts_with("dragon");
-    let path: PathBuf = meshdir.join(file);
-    let mesh = load(&path, weld);
+    let gdist_known_wrong = case.file.starts_with("dragon");
+    let mesh = &case.mesh;
     let pinch: Vec<u32> = (0..mesh.input_vertex_count() as u32)
         .filter(|&v| mesh.is_pinch(v))
         .collect();
     let pinch_fields: Vec<Vec<f64>> = pinch
         .iter()
-        .map(|&v| vtp(&mesh, &[Source::Vertex(v)], None).0)
+        .map(|&v| vtp(mesh, &[Source::Vertex(v)], None).0)
         .collect();
-    let files = entry["files"].as_object().expect("files");
     let mut failures = Vec::new();
     let mut skipped = Vec::new();
-    for (name, info) in files {
+    for reference_file in &case.files {
+        let name = &reference_file.name;
         if !filter(name) {
             skipped.push(name.as_str());
             continue;
         }
-        let sources: Vec<Source> = info["sources"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| Source::Vertex(v.as_u64().unwrap() as u32))
-            .collect();
-        let max_finite = info["max_finite"].as_f64().unwrap();
-        let misses: HashSet<usize> = info
-            .get("oracle_misses")
-            .and_then(Value::as_array)
-            .map(|a| a.iter().map(|v| v.as_u64().unwrap() as usize).collect())
-            .unwrap_or_default();
-        let reference = read_distances(&refdir.join(name));
+        let (sources, max_finite) = (&reference_file.sources, reference_file.max_finite);
+        let misses = &reference_file.oracle_misses;
+        let reference = reference_file.distances();
         let tol = REL * max_finite;
         let t = Instant::now();
-        let (ours_vtp, vtp_props) = vtp(&mesh, &sources, limit);
+        let (ours_vtp, vtp_props) = vtp(mesh, sources, limit);
         let vtp_s = t.elapsed().as_secs_f64();
         let near_limit = |x: f64| limit.is_some_and(|m| (x - m).abs() <= 1e-9 * m);
         let (mut beyond_limit, mut at_limit) = (0, 0);
         for &(schedule, label) in schedules {
             let t = Instant::now();
-            let (ours, stats) = ich(&mesh, &sources, schedule, limit);
+            let (ours, stats) = ich(mesh, sources, schedule, limit);
             let solve_s = t.elapsed().as_secs_f64();
             assert_eq!(ours.len(), reference.len(), "{name}: vertex count");
             let mut bad = Vec::new();
@@ -330,7 +295,7 @@ fn cow_pinch_vertex() {
     let Some(data) = data_dir("ich_reference cow pinch vertex") else {
         return;
     };
-    let mesh = load(&data.join("cow.obj"), false);
+    let mesh = load_mesh(&data.join("cow.obj"), false);
     let pinch: Vec<u32> = (0..mesh.input_vertex_count() as u32)
         .filter(|&v| mesh.is_pinch(v))
         .collect();

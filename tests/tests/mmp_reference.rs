@@ -18,74 +18,37 @@
 //! welded dragon the same way but only with `--ignored`. Everything else:
 //! every listed source, both schedules.
 
-use std::collections::HashSet;
-use std::path::PathBuf;
 use std::time::Instant;
 
-use geodesics_mesh::{BuildOptions, Mesh};
 use geodesics_mmp::{MmpOptions, Schedule};
-use geodesics_tests::{data_dir, read_distances, reference_dir};
+use geodesics_tests::reference_mesh;
 use geodesics_vtp::VtpOptions;
-use geodesics_window::Source;
-use serde_json::Value;
 
 const REL: f64 = 1e-12;
-
-fn load(path: &std::path::Path, weld: bool) -> Mesh {
-    let soup = geodesics_io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
-    Mesh::build(soup, &BuildOptions { weld }).unwrap_or_else(|e| panic!("{e}"))
-}
 
 /// Checks the reference files of manifest key `key`, each with the
 /// schedules `plan` gives for its name (none: skipped, and said so).
 fn check(key: &str, synthetic: bool, plan: &dyn Fn(&str) -> &'static [Schedule]) {
-    let Some(data) = data_dir(&format!("mmp_reference {key}")) else {
+    let Some(case) = reference_mesh(&format!("mmp_reference {key}"), key, synthetic) else {
         return;
     };
-    let mut refdir = reference_dir(&data);
-    let mut meshdir = data.clone();
-    if synthetic {
-        refdir = refdir.join("synthetic");
-        meshdir = meshdir.join("synthetic");
-    }
-    let manifest: Value = serde_json::from_str(
-        &std::fs::read_to_string(refdir.join("manifest.json")).expect("manifest.json"),
-    )
-    .expect("manifest.json is JSON");
-    let entry = &manifest["meshes"][key];
-    assert!(entry.is_object(), "{key} not in the manifest");
-    let (file, weld) = match key.strip_suffix(".welded") {
-        Some(f) => (f, true),
-        None => (key, false),
-    };
-    let path: PathBuf = meshdir.join(file);
-    let mesh = load(&path, weld);
+    let mesh = &case.mesh;
     let exceptions_allowed = key.starts_with("cow.obj") || key.starts_with("dragon.ply");
-    let files = entry["files"].as_object().expect("files");
     let mut failures = Vec::new();
     let mut checked = 0;
-    for (name, info) in files {
+    for reference_file in &case.files {
+        let name = &reference_file.name;
         let schedules = plan(name);
         if schedules.is_empty() {
             eprintln!("mmp_reference {name}: SKIPPED (run time; see the file's doc)");
             continue;
         }
         checked += 1;
-        let sources: Vec<Source> = info["sources"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| Source::Vertex(v.as_u64().unwrap() as u32))
-            .collect();
-        let max_finite = info["max_finite"].as_f64().unwrap();
-        let misses: HashSet<usize> = info
-            .get("oracle_misses")
-            .and_then(Value::as_array)
-            .map(|a| a.iter().map(|v| v.as_u64().unwrap() as usize).collect())
-            .unwrap_or_default();
-        let reference = read_distances(&refdir.join(name));
+        let (sources, max_finite) = (&reference_file.sources, reference_file.max_finite);
+        let misses = &reference_file.oracle_misses;
+        let reference = reference_file.distances();
         let t = Instant::now();
-        let vtp = geodesics_vtp::solve(&mesh, &sources, &VtpOptions::default())
+        let vtp = geodesics_vtp::solve(mesh, sources, &VtpOptions::default())
             .unwrap()
             .0
             .distance;
@@ -96,7 +59,7 @@ fn check(key: &str, synthetic: bool, plan: &dyn Fn(&str) -> &'static [Schedule])
                 schedule,
                 ..MmpOptions::default()
             };
-            let (field, stats) = geodesics_mmp::solve(&mesh, &sources, &options).unwrap();
+            let (field, stats) = geodesics_mmp::solve(mesh, sources, &options).unwrap();
             let ours = &field.distance;
             assert_eq!(ours.len(), reference.len(), "{name}: vertex count");
             let (mut worst_ref, mut worst_vtp) = (0.0f64, 0.0f64);

@@ -22,23 +22,15 @@
 //! per variant, at T = 2 only, once. What is skipped is printed.
 
 use geodesics_window::SourceError;
-use std::collections::HashSet;
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use geodesics_mesh::{BuildOptions, Mesh};
 use geodesics_pvtp::{PvtpError, PvtpOptions};
-use geodesics_tests::{data_dir, read_distances, reference_dir};
+use geodesics_tests::{ReferenceFile, data_dir, load_mesh, reference_mesh};
 use geodesics_vtp::VtpOptions;
 use geodesics_window::{DistanceField, Source};
-use serde_json::Value;
 
 const REL: f64 = 1e-12;
-
-fn load(path: &Path, weld: bool) -> Mesh {
-    let soup = geodesics_io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
-    Mesh::build(soup, &BuildOptions { weld }).unwrap_or_else(|e| panic!("{e}"))
-}
 
 fn pvtp(mesh: &Mesh, sources: &[Source], threads: usize) -> DistanceField {
     let options = PvtpOptions {
@@ -116,54 +108,32 @@ const DRAGON: Plan = Plan {
 };
 
 fn check(key: &str, synthetic: bool, plan: Plan) {
-    let Some(data) = data_dir(&format!("pvtp_reference {key}")) else {
+    let Some(case) = reference_mesh(&format!("pvtp_reference {key}"), key, synthetic) else {
         return;
     };
-    let mut refdir = reference_dir(&data);
-    let mut meshdir = data.clone();
-    if synthetic {
-        refdir = refdir.join("synthetic");
-        meshdir = meshdir.join("synthetic");
-    }
-    let manifest: Value = serde_json::from_str(
-        &std::fs::read_to_string(refdir.join("manifest.json")).expect("manifest.json"),
-    )
-    .expect("manifest.json is JSON");
-    let entry = &manifest["meshes"][key];
-    assert!(entry.is_object(), "{key} not in the manifest");
-    let (file, weld) = match key.strip_suffix(".welded") {
-        Some(f) => (f, true),
-        None => (key, false),
-    };
-    let path: PathBuf = meshdir.join(file);
-    let mesh = load(&path, weld);
+    let mesh = &case.mesh;
     // Single sources first (vertex 0's file leads), then the multi-source
     // file: the "first file" of a plan is a one-source field.
-    let mut files: Vec<(&String, &Value)> =
-        entry["files"].as_object().expect("files").iter().collect();
-    files.sort_by_key(|(name, _)| (!name.ends_with(".src0.txt"), name.ends_with(".multi.txt")));
+    let mut files: Vec<&ReferenceFile> = case.files.iter().collect();
+    files.sort_by_key(|f| {
+        (
+            !f.name.ends_with(".src0.txt"),
+            f.name.ends_with(".multi.txt"),
+        )
+    });
     let mut failures = Vec::new();
     let mut skipped = Vec::new();
-    for (k, &(name, info)) in files.iter().enumerate() {
+    for (k, &reference_file) in files.iter().enumerate() {
+        let name = &reference_file.name;
         if k >= plan.max_files {
             skipped.push(name.clone());
             continue;
         }
-        let sources: Vec<Source> = info["sources"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| Source::Vertex(v.as_u64().unwrap() as u32))
-            .collect();
-        let max_finite = info["max_finite"].as_f64().unwrap();
+        let (sources, max_finite) = (&reference_file.sources, reference_file.max_finite);
         let tol = REL * max_finite;
-        let misses: HashSet<usize> = info
-            .get("oracle_misses")
-            .and_then(Value::as_array)
-            .map(|a| a.iter().map(|v| v.as_u64().unwrap() as usize).collect())
-            .unwrap_or_default();
-        let reference = read_distances(&refdir.join(name));
-        let ours_vtp = vtp(&mesh, &sources);
+        let misses = &reference_file.oracle_misses;
+        let reference = reference_file.distances();
+        let ours_vtp = vtp(mesh, sources);
         let threads: Vec<usize> = plan
             .all_files
             .iter()
@@ -172,13 +142,13 @@ fn check(key: &str, synthetic: bool, plan: Plan) {
             .collect();
         for &t in &threads {
             let start = Instant::now();
-            let field = pvtp(&mesh, &sources, t);
+            let field = pvtp(mesh, sources, t);
             let seconds = start.elapsed().as_secs_f64();
             let ours = &field.distance;
             assert_eq!(ours.len(), reference.len(), "{name}: vertex count");
             let mut bad = Vec::new();
             // T = 1 runs on the calling thread alone: nothing to race.
-            if plan.determinism && t > 1 && !identical(&field, &pvtp(&mesh, &sources, t)) {
+            if plan.determinism && t > 1 && !identical(&field, &pvtp(mesh, sources, t)) {
                 bad.push(format!("T={t}: two runs differ"));
             }
             // Against our VTP: everywhere.
@@ -306,7 +276,7 @@ fn point_sources_and_max_distance_match_vtp() {
         return;
     };
     for file in ["fandisk.obj", "cow.obj", "bunny_zipper.ply"] {
-        let mesh = load(&data.join(file), false);
+        let mesh = load_mesh(&data.join(file), false);
         let f = (mesh.face_count() / 3) as u32;
         let h = 3 * (mesh.face_count() as u32 / 2) + 1;
         let cases: Vec<Vec<Source>> = vec![

@@ -11,16 +11,13 @@
 //! surface path of that length); longer only where gdist is proven too
 //! short by an independent computation (`ORACLE_SHORT`).
 
-use std::collections::HashSet;
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use geodesics_mesh::{BuildOptions, Mesh};
-use geodesics_tests::{data_dir, read_distances, reference_dir};
+use geodesics_mesh::Mesh;
+use geodesics_tests::reference_mesh;
 use geodesics_vtp::{Provenance, VtpOptions, solve, solve_with_provenance};
 use geodesics_window::Source;
 use glam::DVec3;
-use serde_json::Value;
 
 const REL: f64 = 1e-12;
 
@@ -73,72 +70,38 @@ const ORACLE_SHORT: &[OracleShort] = &[
     },
 ];
 
-fn load(path: &Path, weld: bool) -> Mesh {
-    let soup = geodesics_io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
-    Mesh::build(soup, &BuildOptions { weld }).unwrap_or_else(|e| panic!("{e}"))
-}
-
 /// Checks every reference file of `key` (a manifest key such as
 /// `bunny.off` or `dragon.ply.welded`) whose name passes `filter`.
 fn check(key: &str, synthetic: bool, filter: &dyn Fn(&str) -> bool) {
-    let Some(data) = data_dir(&format!("vtp_reference {key}")) else {
+    let Some(case) = reference_mesh(&format!("vtp_reference {key}"), key, synthetic) else {
         return;
     };
-    let mut refdir = reference_dir(&data);
-    let mut meshdir = data.clone();
-    if synthetic {
-        refdir = refdir.join("synthetic");
-        meshdir = meshdir.join("synthetic");
-    }
-    let manifest: Value = serde_json::from_str(
-        &std::fs::read_to_string(refdir.join("manifest.json")).expect("manifest.json"),
-    )
-    .expect("manifest.json is JSON");
-    let entry = &manifest["meshes"][key];
-    assert!(entry.is_object(), "{key} not in the manifest");
-    let (file, weld) = match key.strip_suffix(".welded") {
-        Some(f) => (f, true),
-        None => (key, false),
-    };
-    let path: PathBuf = meshdir.join(file);
-    let t = Instant::now();
-    let mesh = load(&path, weld);
-    let load_s = t.elapsed().as_secs_f64();
+    let (mesh, load_s) = (&case.mesh, case.load_seconds);
     let pinch: Vec<u32> = (0..mesh.input_vertex_count() as u32)
         .filter(|&v| mesh.is_pinch(v))
         .collect();
     let pinch_fields: Vec<Vec<f64>> = pinch
         .iter()
         .map(|&v| {
-            solve(&mesh, &[Source::Vertex(v)], &VtpOptions::default())
+            solve(mesh, &[Source::Vertex(v)], &VtpOptions::default())
                 .unwrap()
                 .0
                 .distance
         })
         .collect();
-    let files = entry["files"].as_object().expect("files");
     let mut failures = Vec::new();
-    for (name, info) in files {
+    for reference_file in &case.files {
+        let name = &reference_file.name;
         if !filter(name) {
             continue;
         }
-        let sources: Vec<Source> = info["sources"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| Source::Vertex(v.as_u64().unwrap() as u32))
-            .collect();
-        let max_finite = info["max_finite"].as_f64().unwrap();
-        let misses: HashSet<usize> = info
-            .get("oracle_misses")
-            .and_then(Value::as_array)
-            .map(|a| a.iter().map(|v| v.as_u64().unwrap() as usize).collect())
-            .unwrap_or_default();
-        let reference = read_distances(&refdir.join(name));
+        let (sources, max_finite) = (&reference_file.sources, reference_file.max_finite);
+        let misses = &reference_file.oracle_misses;
+        let reference = reference_file.distances();
         let t = Instant::now();
         let (field, stats, prov) =
-            solve_with_provenance(&mesh, &sources, &VtpOptions::default()).unwrap();
-        let mut proof = Proof::new(&mesh, &field.distance, &prov);
+            solve_with_provenance(mesh, sources, &VtpOptions::default()).unwrap();
+        let mut proof = Proof::new(mesh, &field.distance, &prov);
         let mut proven_oracle_long = 0;
         let mut inherited_oracle_short = 0;
         let oracle_short: Vec<&OracleShort> =
@@ -221,7 +184,7 @@ fn check(key: &str, synthetic: bool, filter: &dyn Fn(&str) -> bool) {
                 max_distance: Some(reach + tol),
                 ..VtpOptions::default()
             };
-            let from = solve(&mesh, &[Source::Vertex(o.vertex as u32)], &opts)
+            let from = solve(mesh, &[Source::Vertex(o.vertex as u32)], &opts)
                 .unwrap()
                 .0
                 .distance;
