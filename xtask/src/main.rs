@@ -21,7 +21,11 @@
 //!
 //! Meshes come from `GEODESICS_DATA` (default `../shared/data/meshes`).
 //! Times are the minimum over the runs; only ratios measured in one run mean
-//! much on a shared machine.
+//! much on a shared machine, so where a table compares solvers (PVTP's
+//! threads against each other and VTP, PAVTP against AVTP, gdist against
+//! VTP) their runs alternate and the table gives the median and range of
+//! the per-round ratios: the same binary on this kind of machine has run
+//! 1.6x slower one minute than the next.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -99,6 +103,102 @@ pub(crate) fn best_of(
         }
     }
     Ok(best.expect("at least one run"))
+}
+
+/// Solve times of several algorithms measured in interleaved rounds: each
+/// round runs every algorithm once (starting one later each round), so a
+/// machine that speeds up or slows down during the table affects all of
+/// them alike. Ratios are then taken within a round.
+pub(crate) struct Interleaved {
+    /// Per algorithm, its time in each round.
+    pub seconds: Vec<Vec<f64>>,
+    /// Per algorithm, the field and stats of its fastest run.
+    pub fastest: Vec<(geodesics::DistanceField, Stats)>,
+}
+
+impl Interleaved {
+    /// Times `algorithms` on `mesh` from vertex 0 over `runs` rounds.
+    pub fn run(mesh: &Mesh, algorithms: &[Algorithm], runs: usize) -> Result<Interleaved> {
+        let n = algorithms.len();
+        let rounds = runs.max(1);
+        let mut seconds = vec![Vec::with_capacity(rounds); n];
+        let mut fastest: Vec<Option<(f64, geodesics::DistanceField, Stats)>> = vec![None; n];
+        for round in 0..rounds {
+            for k in 0..n {
+                let i = (k + round) % n;
+                let t = Instant::now();
+                let (field, stats) =
+                    geodesics::compute(mesh, &[Source::Vertex(0)], &algorithms[i])?;
+                let s = t.elapsed().as_secs_f64();
+                seconds[i].push(s);
+                if fastest[i].as_ref().is_none_or(|(b, _, _)| s < *b) {
+                    fastest[i] = Some((s, field, stats));
+                }
+            }
+        }
+        let fastest = fastest
+            .into_iter()
+            .map(|f| {
+                let (_, field, stats) = f.expect("every algorithm ran at least once");
+                (field, stats)
+            })
+            .collect();
+        Ok(Interleaved { seconds, fastest })
+    }
+
+    /// The fastest time of algorithm `i`.
+    pub fn best(&self, i: usize) -> f64 {
+        self.seconds[i]
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// How much faster `i` ran than `base`, round by round: the median and
+    /// the range over the rounds.
+    pub fn speed_up(&self, base: usize, i: usize) -> Spread {
+        Spread::of(
+            self.seconds[base]
+                .iter()
+                .zip(&self.seconds[i])
+                .map(|(b, s)| b / s)
+                .collect(),
+        )
+    }
+}
+
+/// Median and range of a few ratios.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Spread {
+    pub median: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Spread {
+    pub fn of(mut values: Vec<f64>) -> Spread {
+        values.sort_by(f64::total_cmp);
+        let n = values.len();
+        let median = if n == 0 {
+            f64::NAN
+        } else if n % 2 == 1 {
+            values[n / 2]
+        } else {
+            0.5 * (values[n / 2 - 1] + values[n / 2])
+        };
+        Spread {
+            median,
+            min: values.first().copied().unwrap_or(f64::NAN),
+            max: values.last().copied().unwrap_or(f64::NAN),
+        }
+    }
+}
+
+impl std::fmt::Display for Spread {
+    /// `1.52 (1.40–1.61)`: the median and the range over the rounds.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:.2} ({:.2}–{:.2})", self.median, self.min, self.max)
+    }
 }
 
 /// gdist's solve time from vertex 0 (mesh loading excluded), through the
@@ -181,7 +281,7 @@ fn bench(runs: usize, large: bool) -> Result<()> {
         "| mesh | F | VTP s | ns / propagation | propagations | peak live windows | peak window KiB | authors' VTP s | authors' propagations |"
     );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-    let mut bunny_seconds = None;
+    let mut bunny_mesh = None;
     for BenchCase {
         name,
         soup,
@@ -190,9 +290,6 @@ fn bench(runs: usize, large: bool) -> Result<()> {
     {
         let mesh = Mesh::build(soup, &BuildOptions::default())?;
         let (s, _, st) = best_of(&mesh, &Algorithm::default(), runs)?;
-        if name == "bunny.off" {
-            bunny_seconds = Some(s);
-        }
         let (at, ap) = authors.map_or(("—".to_string(), "—".to_string()), |(t, p)| {
             (format!("{t:.3}"), p.to_string())
         });
@@ -204,14 +301,34 @@ fn bench(runs: usize, large: bool) -> Result<()> {
             st.peak_live_windows,
             st.peak_window_bytes as f64 / 1024.0,
         );
+        if name == "bunny.off" {
+            bunny_mesh = Some(mesh);
+        }
     }
     println!();
-    match (gdist_seconds(&dir.join("bunny.off"), runs), bunny_seconds) {
-        (Some(g), Some(v)) => println!(
-            "gdist (MMP, tvb-gdist) on bunny.off from vertex 0, same run: {g:.3} s; VTP is {:.1}x faster",
-            g / v
-        ),
-        _ => println!("gdist not measured: run ../shared/tools/oracle/setup.sh once to install it"),
+    // gdist against VTP in alternating runs, the ratio taken per pair.
+    let path = dir.join("bunny.off");
+    let mut pairs = Vec::new();
+    if let Some(mesh) = &bunny_mesh {
+        for _ in 0..runs.max(1) {
+            let Some(g) = gdist_seconds(&path, 1) else {
+                break;
+            };
+            let (v, _, _) = best_of(mesh, &Algorithm::default(), 1)?;
+            pairs.push((g, v));
+        }
+    }
+    if pairs.is_empty() {
+        println!("gdist not measured: run ../shared/tools/oracle/setup.sh once to install it");
+    } else {
+        let best = |f: fn(&(f64, f64)) -> f64| pairs.iter().map(f).fold(f64::INFINITY, f64::min);
+        println!(
+            "gdist (MMP, tvb-gdist) on bunny.off from vertex 0, alternating with VTP, {} pairs: gdist best {:.3} s, VTP best {:.3} s; VTP faster by {} (median and range of the pairs)",
+            pairs.len(),
+            best(|p| p.0),
+            best(|p| p.1),
+            Spread::of(pairs.iter().map(|(g, v)| g / v).collect())
+        );
     }
     Ok(())
 }

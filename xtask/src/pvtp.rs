@@ -5,7 +5,7 @@
 use anyhow::Result;
 use geodesics::{Algorithm, BuildOptions, Mesh, PvtpOptions};
 
-use crate::{best_of, data_dir, read};
+use crate::{Interleaved, data_dir, read};
 
 pub fn table(runs: usize, large: bool) -> Result<()> {
     let dir = data_dir()?;
@@ -43,37 +43,42 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
         threads.push(cores);
     }
     println!(
-        "PVTP against VTP from vertex 0, best of {runs} runs (solve only), {cores} logical CPUs\n"
+        "PVTP against VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every T once; solve only), {cores} logical CPUs\n"
     );
     println!(
-        "| mesh | F | solver | T | s | speed-up over T=1 | speed-up over VTP | propagations / VTP's |"
+        "| mesh | F | solver | T | best s | speed-up over T=1 | speed-up over VTP | propagations / VTP's |"
     );
     println!("|---|---:|---|---:|---:|---:|---:|---:|");
     for (name, mesh) in cases {
-        let (vtp_s, _, vtp) = best_of(&mesh, &Algorithm::default(), runs)?;
-        println!(
-            "| {name} | {} | VTP | 1 | {vtp_s:.3} | — | 1.00 | 1.000 |",
-            mesh.face_count()
-        );
-        let mut one = None;
-        for &t in &threads {
-            let algorithm = Algorithm::Pvtp(PvtpOptions {
+        let mut algorithms = vec![Algorithm::default()];
+        algorithms.extend(threads.iter().map(|&t| {
+            Algorithm::Pvtp(PvtpOptions {
                 threads: t,
                 ..PvtpOptions::default()
-            });
-            let (s, st) = {
-                let (s, _, st) = best_of(&mesh, &algorithm, runs)?;
-                (s, st)
-            };
-            let base = *one.get_or_insert(s);
+            })
+        }));
+        let timed = Interleaved::run(&mesh, &algorithms, runs)?;
+        let vtp = &timed.fastest[0].1;
+        println!(
+            "| {name} | {} | VTP | 1 | {:.3} | — | 1.00 | 1.000 |",
+            mesh.face_count(),
+            timed.best(0)
+        );
+        for (k, &t) in threads.iter().enumerate() {
+            let i = k + 1;
+            let st = &timed.fastest[i].1;
             println!(
-                "| {name} | {} | PVTP | {t} | {s:.3} | {:.2} | {:.2} | {:.3} |",
+                "| {name} | {} | PVTP | {t} | {:.3} | {} | {} | {:.3} |",
                 mesh.face_count(),
-                base / s,
-                vtp_s / s,
+                timed.best(i),
+                timed.speed_up(1, i),
+                timed.speed_up(0, i),
                 st.window_propagations as f64 / vtp.window_propagations.max(1) as f64
             );
         }
     }
+    println!(
+        "\nSpeed-ups: the median over the rounds of the ratio within a round (range in brackets)."
+    );
     Ok(())
 }
