@@ -207,6 +207,20 @@ impl Default for JobOut {
 }
 
 impl JobOut {
+    /// Clears the record for a new job. Only `updates[..n_updates]` is
+    /// ever read, so the update slots are left as they are: writing all
+    /// nine for every job made the record cost four cache lines, not two.
+    #[inline]
+    fn reset(&mut self) {
+        self.n_updates = 0;
+        self.prime = false;
+        self.targets = [(NONE, 0); 3];
+        self.consumed = 0;
+        self.grown = 0;
+        self.props = 0;
+        self.emitted = 0;
+    }
+
     #[inline]
     fn push_update(&mut self, v: u32, d: f64, source: u32) {
         // At most 2 per emitting corner and 1 per list: 9.
@@ -231,7 +245,7 @@ struct Scratch {
 /// (see the module comment). Reads only `sh` and the lists it owns in this
 /// phase; writes only `out` and those lists.
 fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
-    *out = JobOut::default();
+    out.reset();
     let mesh = sh.mesh;
     let f = job.face;
     out.prime = sh.faces[f as usize].entered == sh.round;
@@ -928,7 +942,10 @@ impl<'a> Solver<'a> {
         let mut live = self.live as i64;
         for k in 0..n {
             let out = &self.outs[k];
-            let (updates, n_updates, targets) = (out.updates, out.n_updates, out.targets);
+            // Copy out only the valid updates (the rest are stale slots).
+            let (n_updates, targets) = (out.n_updates as usize, out.targets);
+            let mut updates = [(NONE, f64::INFINITY, NO_SOURCE); 9];
+            updates[..n_updates].copy_from_slice(&out.updates[..n_updates]);
             live += out.grown - out.consumed as i64;
             let props = out.props;
             self.stats.window_propagations += props;
@@ -938,7 +955,7 @@ impl<'a> Solver<'a> {
             } else {
                 self.stats.secondary_propagations += props;
             }
-            for &(v, d, s) in &updates[..n_updates as usize] {
+            for &(v, d, s) in &updates[..n_updates] {
                 self.relax(v, d, s);
             }
             for &(t, flags) in &targets {
