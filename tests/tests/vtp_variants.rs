@@ -9,11 +9,8 @@
 //! that change the schedule or the merge run, from one source, as stored
 //! and welded (the others cost minutes there).
 
-use geodesics_mesh::{BuildOptions, Mesh};
-use geodesics_tests::{data_dir, read_distances, reference_dir};
+use geodesics_tests::reference_mesh;
 use geodesics_vtp::{VARIANTS, VtpOptions, solve};
-use geodesics_window::Source;
-use serde_json::Value;
 
 const REL: f64 = 1e-12;
 
@@ -24,32 +21,21 @@ fn check_mesh(key: &str, synthetic: bool) {
 /// `every_variant_on_the_dragon`: also the variants skipped there by
 /// default (minutes each).
 fn check_mesh_with(key: &str, synthetic: bool, all_variants: bool) {
-    let Some(data) = data_dir(&format!("vtp_variants {key}")) else {
+    let Some(case) = reference_mesh(&format!("vtp_variants {key}"), key, synthetic) else {
         return;
     };
-    let (mut refdir, mut meshdir) = (reference_dir(&data), data.clone());
-    if synthetic {
-        refdir = refdir.join("synthetic");
-        meshdir = meshdir.join("synthetic");
-    }
-    let manifest: Value =
-        serde_json::from_str(&std::fs::read_to_string(refdir.join("manifest.json")).unwrap())
-            .unwrap();
-    let entry = &manifest["meshes"][key];
-    let (file, weld) = match key.strip_suffix(".welded") {
-        Some(f) => (f, true),
-        None => (key, false),
-    };
-    let soup = geodesics_io::read_mesh(&meshdir.join(file)).unwrap();
-    let mesh = Mesh::build(soup, &BuildOptions { weld }).unwrap();
+    let mesh = &case.mesh;
     let name = format!("{key}.src0.txt");
-    let info = &entry["files"][&name];
-    let max_finite = info["max_finite"].as_f64().unwrap();
-    let reference = read_distances(&refdir.join(&name));
+    let file = case
+        .files
+        .iter()
+        .find(|f| f.name == name)
+        .unwrap_or_else(|| panic!("{name} not in the manifest"));
+    let (sources, max_finite) = (&file.sources, file.max_finite);
+    let reference = file.distances();
     let trusted = !key.starts_with("dragon")
         && !(0..mesh.input_vertex_count() as u32).any(|v| mesh.is_pinch(v));
-    let sources = [Source::Vertex(0)];
-    let vtp = solve(&mesh, &sources, &VtpOptions::default())
+    let vtp = solve(mesh, sources, &VtpOptions::default())
         .unwrap()
         .0
         .distance;
@@ -59,7 +45,7 @@ fn check_mesh_with(key: &str, synthetic: bool, all_variants: bool) {
             continue;
         }
         let options = VtpOptions::variant(variant).unwrap();
-        let (field, stats) = solve(&mesh, &sources, &options).unwrap();
+        let (field, stats) = solve(mesh, sources, &options).unwrap();
         let mut worst_vtp = 0.0f64;
         let mut worst_ref = 0.0f64;
         for (v, &d) in field.distance.iter().enumerate() {
