@@ -87,22 +87,16 @@ fn read(path: &Path) -> Result<geodesics::IndexedTriangles> {
 }
 
 /// The best of `runs` solves of `algorithm` from vertex 0: seconds, the
-/// field and the stats of that run. Every table of this tool uses it.
+/// field and the stats of that run ([`Interleaved`] with one algorithm).
 pub(crate) fn best_of(
     mesh: &Mesh,
     algorithm: &Algorithm,
     runs: usize,
 ) -> Result<(f64, geodesics::DistanceField, Stats)> {
-    let mut best: Option<(f64, geodesics::DistanceField, Stats)> = None;
-    for _ in 0..runs.max(1) {
-        let t = Instant::now();
-        let (field, stats) = geodesics::compute(mesh, &[Source::Vertex(0)], algorithm)?;
-        let s = t.elapsed().as_secs_f64();
-        if best.as_ref().is_none_or(|(b, _, _)| s < *b) {
-            best = Some((s, field, stats));
-        }
-    }
-    Ok(best.expect("at least one run"))
+    let mut timed = Interleaved::run(mesh, std::slice::from_ref(algorithm), runs)?;
+    let seconds = timed.best(0);
+    let (field, stats) = timed.fastest.swap_remove(0);
+    Ok((seconds, field, stats))
 }
 
 /// Solve times of several algorithms measured in interleaved rounds: each
@@ -201,9 +195,9 @@ impl std::fmt::Display for Spread {
     }
 }
 
-/// gdist's solve time from vertex 0 (mesh loading excluded), through the
-/// oracle's environment, or `None` when it is not installed.
-fn gdist_seconds(mesh: &Path, runs: usize) -> Option<f64> {
+/// gdist's solve time from vertex 0 (mesh loading excluded) in one run,
+/// through the oracle's environment, or `None` when it is not installed.
+fn gdist_seconds(mesh: &Path) -> Option<f64> {
     let home = std::env::var_os("HOME")?;
     let venv = std::env::var_os("ORACLE_VENV")
         .map(PathBuf::from)
@@ -215,26 +209,21 @@ fn gdist_seconds(mesh: &Path, runs: usize) -> Option<f64> {
         return None;
     }
     let out = std::env::temp_dir().join(format!("xtask-gdist-{}.txt", std::process::id()));
-    let mut best: Option<f64> = None;
-    for _ in 0..runs.max(1) {
-        let o = Command::new(&python)
-            .arg(&oracle)
-            .arg(mesh)
-            .args(["--source", "0", "--out"])
-            .arg(&out)
-            .output()
-            .ok()?;
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        // "gdist 2.9.2: 1.234 s"
-        let secs = stderr.lines().find_map(|l| {
-            let rest = l.strip_prefix("gdist ")?;
-            let (_, t) = rest.split_once(": ")?;
-            t.strip_suffix(" s")?.parse::<f64>().ok()
-        })?;
-        best = Some(best.map_or(secs, |b: f64| b.min(secs)));
-    }
-    let _ = std::fs::remove_file(out);
-    best
+    let o = Command::new(&python)
+        .arg(&oracle)
+        .arg(mesh)
+        .args(["--source", "0", "--out"])
+        .arg(&out)
+        .output()
+        .ok();
+    let _ = std::fs::remove_file(&out);
+    let stderr = String::from_utf8_lossy(&o?.stderr).into_owned();
+    // "gdist 2.9.2: 1.234 s"
+    stderr.lines().find_map(|l| {
+        let rest = l.strip_prefix("gdist ")?;
+        let (_, t) = rest.split_once(": ")?;
+        t.strip_suffix(" s")?.parse::<f64>().ok()
+    })
 }
 
 /// A mesh of the speed table: name, triangles, and the authors' VTP seconds
@@ -311,7 +300,7 @@ fn bench(runs: usize, large: bool) -> Result<()> {
     let mut pairs = Vec::new();
     if let Some(mesh) = &bunny_mesh {
         for _ in 0..runs.max(1) {
-            let Some(g) = gdist_seconds(&path, 1) else {
+            let Some(g) = gdist_seconds(&path) else {
                 break;
             };
             let (v, _, _) = best_of(mesh, &Algorithm::default(), 1)?;

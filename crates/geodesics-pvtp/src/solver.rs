@@ -212,13 +212,25 @@ impl JobOut {
     /// nine for every job made the record cost four cache lines, not two.
     #[inline]
     fn reset(&mut self) {
-        self.n_updates = 0;
-        self.prime = false;
-        self.targets = [(NONE, 0); 3];
-        self.consumed = 0;
-        self.grown = 0;
-        self.props = 0;
-        self.emitted = 0;
+        // Exhaustive on purpose: a field added to the record must be
+        // cleared here too, or this stops compiling.
+        let JobOut {
+            updates: _,
+            n_updates,
+            prime,
+            targets,
+            consumed,
+            grown,
+            props,
+            emitted,
+        } = self;
+        *n_updates = 0;
+        *prime = false;
+        *targets = [(NONE, 0); 3];
+        *consumed = 0;
+        *grown = 0;
+        *props = 0;
+        *emitted = 0;
     }
 
     #[inline]

@@ -157,8 +157,9 @@ pub fn overlap_dominance(w0: &Window, w1: &Window, tol: &Tolerance) -> Dominance
     overlap_dominance_ended(&EndedWindow::new(*w0), &EndedWindow::new(*w1), tol)
 }
 
-/// [`overlap_dominance`] on windows whose end distances are cached: the
-/// overlap's ends are ends of the windows, so half the distances are known.
+/// [`overlap_dominance`] on windows whose end distances are cached (it
+/// recomputes the four overlap-end distances rather than branching on
+/// which cache holds which: see `compare_on_overlap`).
 #[inline]
 pub fn overlap_dominance_ended(e0: &EndedWindow, e1: &EndedWindow, tol: &Tolerance) -> Dominance {
     compare_on_overlap(e0, e1, tol).0
