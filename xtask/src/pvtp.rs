@@ -46,9 +46,9 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
         "PVTP against VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every T once; solve only), {cores} logical CPUs\n"
     );
     println!(
-        "| mesh | F | solver | T | best s | speed-up over T=1 | speed-up over VTP | propagations / VTP's |"
+        "| mesh | F | solver | T | best s | speed-up over T=1 | speed-up over VTP | propagations / VTP's | phases |"
     );
-    println!("|---|---:|---|---:|---:|---:|---:|---:|");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|");
     for (name, mesh) in cases {
         let mut algorithms = vec![Algorithm::default()];
         algorithms.extend(threads.iter().map(|&t| {
@@ -60,7 +60,7 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
         let timed = Interleaved::run(&mesh, &algorithms, runs)?;
         let vtp = &timed.fastest[0].1;
         println!(
-            "| {name} | {} | VTP | 1 | {:.3} | — | 1.00 | 1.000 |",
+            "| {name} | {} | VTP | 1 | {:.3} | — | 1.00 | 1.000 | — |",
             mesh.face_count(),
             timed.best(0)
         );
@@ -68,12 +68,13 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
             let i = k + 1;
             let st = &timed.fastest[i].1;
             println!(
-                "| {name} | {} | PVTP | {t} | {:.3} | {} | {} | {:.3} |",
+                "| {name} | {} | PVTP | {t} | {:.3} | {} | {} | {:.3} | {} |",
                 mesh.face_count(),
                 timed.best(i),
                 timed.speed_up(1, i),
                 timed.speed_up(0, i),
-                st.window_propagations as f64 / vtp.window_propagations.max(1) as f64
+                st.window_propagations as f64 / vtp.window_propagations.max(1) as f64,
+                st.parallel_phases
             );
         }
     }

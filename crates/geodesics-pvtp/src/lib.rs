@@ -14,7 +14,9 @@
 //! dual arrays `A_from` / `A_to`); the distance updates are then applied
 //! and the improved vertices re-queued sequentially in job order, and the
 //! lists that received windows and touch the traversed area form the next
-//! phase. Rounds and phases repeat until the buckets are empty. The result is exact (the
+//! phase. While such a phase has fewer than `K` jobs, the next round's
+//! lists join it, so the phases stay full. Rounds and phases repeat until
+//! the buckets are empty. The result is exact (the
 //! same pruning rules as VTP: Rule 1, the vertex check, Rules 2/3 when
 //! merging) and **deterministic**: the same input and `T` give the same
 //! bits on every run, whatever the thread timing.

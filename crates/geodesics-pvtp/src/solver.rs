@@ -763,8 +763,17 @@ impl<'a> Solver<'a> {
     // ------------------------------------------------------------ main loop
 
     pub(crate) fn run(&mut self) {
+        let k_cap = LISTS_PER_THREAD * self.threads.max(1);
         loop {
-            if self.pending.is_empty() {
+            // A round's lists take several phases to reach the wavefront,
+            // the later ones with few jobs each. The next round is selected
+            // into the same phase while the continuation leaves room for
+            // it: fewer, fuller phases, each costing a fork/join and a pass
+            // of delayed writes (on the welded dragon at T=2: 19K phases
+            // instead of 78K). Every pruning rule is sound in any order, so
+            // this changes only how many windows are propagated (+0.05 %
+            // there).
+            if self.pending.len() < k_cap {
                 self.select();
             }
             if self.pending.is_empty() {
@@ -949,6 +958,7 @@ impl<'a> Solver<'a> {
             }
         }
         self.parallel_seconds += t0.elapsed().as_secs_f64();
+        self.stats.parallel_phases += 1;
         // Delayed writes, in job order.
         let next = self.phase + 1;
         let mut live = self.live as i64;

@@ -97,6 +97,10 @@ pub struct Stats {
     pub vertex_pops: u64,
     /// Pseudo-source emissions (sources, saddles, boundary, pinch vertices).
     pub pseudo_source_emissions: u64,
+    /// Phases of parallel propagation, each followed by its delayed writes
+    /// (PVTP and PAVTP; 0 for the sequential solvers). Each costs a
+    /// fork/join, so fewer phases for the same work scale better.
+    pub parallel_phases: u64,
     /// Seconds spent propagating windows (Rule 1 splitting, children, and
     /// the vertex check applied to each child as it is made). Solvers may
     /// estimate this by timing a sample of their steps (VTP times one
