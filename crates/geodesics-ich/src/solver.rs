@@ -46,7 +46,7 @@ struct Solver<'a> {
     options: &'a IchOptions,
     tol: Tolerance,
     /// Per half-edge: the opposite corner in the half-edge's frame.
-    apex: Vec<DVec2>,
+    apex: &'a [DVec2],
     kind: Vec<FaceKind>,
     /// Per half-edge: Chen and Han's angle record (one angle one split).
     angle: Vec<Angle>,
@@ -106,7 +106,6 @@ impl<'a> Solver<'a> {
         let nh = mesh.half_edge_count();
         let nv = mesh.vertex_count();
         let SolverSetup {
-            apex,
             kind,
             pseudo,
             group_of,
@@ -120,7 +119,7 @@ impl<'a> Solver<'a> {
             mesh,
             options,
             tol,
-            apex,
+            apex: mesh.apex_table(),
             kind,
             angle: vec![Angle::EMPTY; nh],
             dist: vec![f64::INFINITY; nv],

@@ -51,7 +51,7 @@ pub use build::BuildOptions;
 pub use error::MeshError;
 pub use summary::{AnisotropyStats, MeshSummary};
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 /// Positions and triangles exactly as a file stores them: the input of
 /// [`Mesh::build`] and the output of every reader in `geodesics-io`.
@@ -75,6 +75,8 @@ pub struct Mesh {
     twin: Vec<u32>,
     /// Per half-edge: its length.
     length: Vec<f64>,
+    /// Per half-edge: the opposite corner in the half-edge's frame.
+    apex: Vec<DVec2>,
     /// Per corner (indexed like half-edges, `3 * f + i`): interior angle at corner `i`.
     corner_angle: Vec<f64>,
     /// Per vertex: sum of its corner angles.
@@ -195,6 +197,22 @@ impl Mesh {
     #[inline]
     pub fn length(&self, h: u32) -> f64 {
         self.length[h as usize]
+    }
+
+    /// The corner of `h`'s face opposite `h`, in the frame of `h`: tail at
+    /// the origin, head at `(length(h), 0)`, the face above (`y ≥ 0`). A
+    /// zero-length half-edge gives the origin. This is the triangle every
+    /// window solver unfolds a face into, computed once when the mesh is
+    /// built.
+    #[inline]
+    pub fn apex(&self, h: u32) -> DVec2 {
+        self.apex[h as usize]
+    }
+
+    /// [`Mesh::apex`] of every half-edge, indexed by half-edge.
+    #[inline]
+    pub fn apex_table(&self) -> &[DVec2] {
+        &self.apex
     }
 
     /// Interior angle of the face of `h` at the tail of `h` (corner `h`).

@@ -62,6 +62,33 @@ fn tetrahedron_is_closed_genus_zero_and_linked() {
 }
 
 #[test]
+fn apex_is_the_opposite_corner_in_the_half_edge_frame() {
+    // A scalene triangle and a needle with a zero-length edge.
+    let p = [
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.5, 1.0, 0.3],
+        [5.0, 5.0, 5.0],
+        [5.0, 5.0, 5.0],
+        [6.0, 5.0, 5.0],
+    ];
+    let mesh = build(&p, &[[0, 1, 2], [3, 4, 5]]).unwrap();
+    for h in 0..3 {
+        let (a, b) = (mesh.position(mesh.tail(h)), mesh.position(mesh.head(h)));
+        let c = mesh.position(mesh.opposite_vertex(h));
+        let q = mesh.apex(h);
+        assert!(q.y > 0.0, "the face lies above the half-edge");
+        assert!((q.length() - a.distance(c)).abs() < 1e-15);
+        assert!((q.distance(glam::DVec2::new(mesh.length(h), 0.0)) - b.distance(c)).abs() < 1e-15);
+    }
+    assert_eq!(mesh.apex(0), glam::DVec2::new(0.5, 1.09f64.sqrt()));
+    assert_eq!(mesh.apex_table().len(), mesh.half_edge_count());
+    // The zero-length half-edge maps everything to its tail.
+    let zero = (3..6).find(|&h| mesh.length(h) == 0.0).unwrap();
+    assert_eq!(mesh.apex(zero), glam::DVec2::ZERO);
+}
+
+#[test]
 fn inconsistent_orientation_is_repaired() {
     let mut t = TET_T;
     t[2] = [0, 3, 2]; // flipped

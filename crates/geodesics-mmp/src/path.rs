@@ -258,7 +258,7 @@ impl<'a> MmpField<'a> {
             // The ends of h in the frame of hp (h is the twin of one of the
             // two other edges of hp's face).
             let lp = mesh.length(hp);
-            let c = s.apex[hp as usize];
+            let c = mesh.apex(hp);
             let (a, b) = if mesh.twin(Mesh::prev(hp)) == Some(h) {
                 (DVec2::ZERO, c)
             } else {

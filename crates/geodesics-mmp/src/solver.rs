@@ -182,7 +182,6 @@ impl Queue {
 /// Everything a finished solve keeps for distance read-out and paths.
 pub(crate) struct Solved {
     pub tol: Tolerance,
-    pub apex: Vec<DVec2>,
     pub kind: Vec<FaceKind>,
     pub dist: Vec<f64>,
     pub prov: Vec<Prov>,
@@ -198,7 +197,7 @@ struct Solver<'a> {
     mesh: &'a Mesh,
     max_distance: Option<f64>,
     tol: Tolerance,
-    apex: Vec<DVec2>,
+    apex: &'a [DVec2],
     kind: Vec<FaceKind>,
     pseudo: Vec<bool>,
     dist: Vec<f64>,
@@ -275,7 +274,6 @@ impl<'a> Solver<'a> {
         let nh = mesh.half_edge_count();
         let nv = mesh.vertex_count();
         let SolverSetup {
-            apex,
             kind,
             pseudo,
             group_of,
@@ -311,7 +309,7 @@ impl<'a> Solver<'a> {
             mesh,
             max_distance: options.max_distance,
             tol,
-            apex,
+            apex: mesh.apex_table(),
             kind,
             pseudo,
             dist: vec![f64::INFINITY; nv],
@@ -659,7 +657,6 @@ impl<'a> Solver<'a> {
         stats.propagation_seconds = 0.0;
         Solved {
             tol: self.tol,
-            apex: self.apex,
             kind: self.kind,
             dist: self.dist,
             prov: self.prov,

@@ -38,7 +38,7 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     DistanceField, EndedWindow, FaceKind, NO_SOURCE, SolverSetup, Source, Stats, Tolerance,
-    Triangle, Window, WindowReset, seeds, validate_sources,
+    Triangle, VertexState, Window, WindowReset, seeds, validate_sources,
 };
 use glam::DVec2;
 use rayon::prelude::*;
@@ -110,24 +110,6 @@ impl EmitPolicy for Tolerance {
     }
 }
 
-/// Per-vertex state, packed so that the sequential parts touch one cache
-/// line per vertex.
-#[derive(Clone, Copy, Debug)]
-struct Vert {
-    /// Current distance (frozen during a phase).
-    dist: f64,
-    /// Distance at which it last emitted pseudo-source windows.
-    emitted: f64,
-    /// Index of the source of `dist`.
-    src: u32,
-    /// Popped at least once (in the traversed area).
-    inside: bool,
-    /// Saddle, flat, boundary, pinch, zero-area-face corner or source.
-    pseudo: bool,
-    /// Has pinch copies (see `Solver::groups`).
-    grouped: bool,
-}
-
 /// Per-face bookkeeping, packed so that the sequential parts touch one
 /// cache line per face.
 #[derive(Clone, Copy, Debug)]
@@ -150,7 +132,7 @@ struct Shared<'a> {
     tol: Tolerance,
     apex: &'a [DVec2],
     kind: &'a [FaceKind],
-    verts: &'a [Vert],
+    verts: &'a [VertexState],
     lists: &'a [ListPair],
     faces: &'a [FaceRec],
     round: u32,
@@ -479,9 +461,8 @@ pub(crate) struct Solver<'a> {
     max_distance: Option<f64>,
     threads: usize,
     tol: Tolerance,
-    apex: Vec<DVec2>,
     kind: Vec<FaceKind>,
-    verts: Vec<Vert>,
+    verts: Vec<VertexState>,
     group_of: Vec<u32>,
     groups: Vec<Vec<u32>>,
     buckets: Buckets,
@@ -525,13 +506,14 @@ impl<'a> Solver<'a> {
         let nh = mesh.half_edge_count();
         let nf = mesh.face_count();
         let nv = mesh.vertex_count();
+        let setup = SolverSetup::new(mesh, &tol);
+        let verts = setup.vertex_states();
         let SolverSetup {
-            apex,
             kind,
-            pseudo,
             group_of,
             groups,
-        } = SolverSetup::new(mesh, &tol);
+            ..
+        } = setup;
         // Bucket width h/τ (Section 4.2): h the mean edge length, τ the
         // rounded mean anisotropy (at least 1).
         let tau = mesh.summary().anisotropy.mean.round().max(1.0);
@@ -558,18 +540,8 @@ impl<'a> Solver<'a> {
             max_distance: options.max_distance,
             threads,
             tol,
-            apex,
             kind,
-            verts: (0..nv)
-                .map(|v| Vert {
-                    dist: f64::INFINITY,
-                    emitted: f64::INFINITY,
-                    src: NO_SOURCE,
-                    inside: false,
-                    pseudo: pseudo[v],
-                    grouped: group_of[v] != NONE,
-                })
-                .collect(),
+            verts,
             group_of,
             groups,
             buckets: Buckets::new(width, cap),
@@ -925,7 +897,7 @@ impl<'a> Solver<'a> {
             let sh = Shared {
                 mesh: self.mesh,
                 tol: self.tol,
-                apex: &self.apex,
+                apex: self.mesh.apex_table(),
                 kind: &self.kind,
                 verts: &self.verts,
                 lists: &self.lists,

@@ -26,7 +26,7 @@
 
 use geodesics_mesh::Mesh;
 use geodesics_window::{
-    DistanceField, FaceKind, GeodesicPath, Source, SurfacePoint, Tolerance, face_kind, frame_coords,
+    DistanceField, FaceKind, GeodesicPath, Source, SurfacePoint, Tolerance, face_kind,
 };
 use glam::DVec2;
 use thiserror::Error;
@@ -237,11 +237,7 @@ fn he(e: u32, i: usize) -> u32 {
 /// The corners of the face of `e` in `e`'s frame: tail, head, apex
 /// (counter-clockwise; the face lies above the x axis).
 fn corners(mesh: &Mesh, e: u32) -> [DVec2; 3] {
-    [
-        DVec2::ZERO,
-        DVec2::new(mesh.length(e), 0.0),
-        frame_coords(mesh, e, mesh.position(mesh.opposite_vertex(e))),
-    ]
+    [DVec2::ZERO, DVec2::new(mesh.length(e), 0.0), mesh.apex(e)]
 }
 
 /// How face `f` is crossed (the solver's classification).

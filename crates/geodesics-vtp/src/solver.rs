@@ -10,14 +10,20 @@ use geodesics_window::prune::{
     prune_adjacent_ended, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
-    DistanceField, EndedWindow, FaceKind, NO_SOURCE, SolverSetup, Source, Stats, Tolerance,
-    Triangle, Window, seeds, validate_sources,
+    DistanceField, EndedWindow, FaceKind, SolverSetup, Source, Stats, Tolerance, Triangle,
+    VertexState, Window, seeds, validate_sources,
 };
 use glam::DVec2;
 
 use crate::{Merge, PairRule, Provenance, Rule1, Schedule, VtpError, VtpOptions};
 
 const NONE: u32 = u32::MAX;
+
+/// Per half-edge `slot`: bit 31 says the half-edge waits in the FIFO, the
+/// other bits index its window list in the pool, `NO_LIST` for none (one
+/// word, so queueing a half-edge touches one cache line).
+const QUEUED: u32 = 1 << 31;
+const NO_LIST: u32 = QUEUED - 1;
 
 /// One window list in this many has its phases timed; the phase times are
 /// scaled up accordingly (an estimate, unbiased over many lists).
@@ -28,23 +34,18 @@ struct Solver<'a> {
     options: &'a VtpOptions,
     tol: Tolerance,
     /// Per half-edge: the opposite corner in the half-edge's frame.
-    apex: Vec<DVec2>,
+    apex: &'a [DVec2],
     kind: Vec<FaceKind>,
-    dist: Vec<f64>,
-    src: Vec<u32>,
-    inside: Vec<bool>,
-    pseudo: Vec<bool>,
-    /// Per vertex: distance at which it last emitted pseudo-source windows.
-    emitted: Vec<f64>,
+    verts: Vec<VertexState>,
     /// Per vertex: index into `groups` of its pinch group, or NONE.
     group_of: Vec<u32>,
     groups: Vec<Vec<u32>>,
     heap: BinaryHeap<Reverse<(u64, u32)>>,
-    /// Per half-edge: index of its window list in `pool`, or NONE.
+    /// Per half-edge: its list in `pool` and whether it is queued (see
+    /// `QUEUED`).
     slot: Vec<u32>,
     pool: Vec<Vec<EndedWindow>>,
     free: Vec<u32>,
-    queued: Vec<bool>,
     fifo: VecDeque<u32>,
     /// Per face: the pop number at which it joined the traversed area.
     entered: Vec<u32>,
@@ -120,32 +121,28 @@ impl<'a> Solver<'a> {
         let nh = mesh.half_edge_count();
         let nf = mesh.face_count();
         let nv = mesh.vertex_count();
+        let setup = SolverSetup::new(mesh, &tol);
+        let verts = setup.vertex_states();
         let SolverSetup {
-            apex,
             kind,
-            pseudo,
             group_of,
             groups,
-        } = SolverSetup::new(mesh, &tol);
+            ..
+        } = setup;
         let mean_edge = mesh.average_edge_length();
         Solver {
             mesh,
             options,
             tol,
-            apex,
+            apex: mesh.apex_table(),
             kind,
-            dist: vec![f64::INFINITY; nv],
-            src: vec![NO_SOURCE; nv],
-            inside: vec![false; nv],
-            pseudo,
-            emitted: vec![f64::INFINITY; nv],
+            verts,
             group_of,
             groups,
             heap: BinaryHeap::new(),
-            slot: vec![NONE; nh],
+            slot: vec![NO_LIST; nh],
             pool: Vec::new(),
             free: Vec::new(),
-            queued: vec![false; nh],
             fifo: VecDeque::new(),
             entered: vec![NONE; nf],
             pops: 0,
@@ -198,12 +195,12 @@ impl<'a> Solver<'a> {
     }
 
     fn force_pseudo(&mut self, v: u32) {
-        self.pseudo[v as usize] = true;
-        let g = self.group_of[v as usize];
-        if g != NONE {
+        self.verts[v as usize].pseudo = true;
+        if self.verts[v as usize].grouped {
+            let g = self.group_of[v as usize];
             for k in 0..self.groups[g as usize].len() {
                 let u = self.groups[g as usize][k];
-                self.pseudo[u as usize] = true;
+                self.verts[u as usize].pseudo = true;
             }
         }
     }
@@ -213,18 +210,18 @@ impl<'a> Solver<'a> {
     /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter.
     #[inline]
     fn relax(&mut self, v: u32, d: f64, s: u32, how: Provenance) {
-        if !(d < self.dist[v as usize]) {
+        if !(d < self.verts[v as usize].dist) {
             return;
         }
         self.set_dist(v, d, s);
         if !self.prov.is_empty() {
             self.prov[v as usize] = how;
         }
-        let g = self.group_of[v as usize];
-        if g != NONE {
+        if self.verts[v as usize].grouped {
+            let g = self.group_of[v as usize];
             for k in 0..self.groups[g as usize].len() {
                 let u = self.groups[g as usize][k];
-                if u != v && d < self.dist[u as usize] {
+                if u != v && d < self.verts[u as usize].dist {
                     self.set_dist(u, d, s);
                     if !self.prov.is_empty() {
                         self.prov[u as usize] = Provenance::Vertex {
@@ -239,23 +236,17 @@ impl<'a> Solver<'a> {
 
     #[inline]
     fn set_dist(&mut self, v: u32, d: f64, s: u32) {
-        let vi = v as usize;
-        if self.next_reset.is_some() && self.dist[vi] == f64::INFINITY && !self.inside[vi] {
+        let x = &mut self.verts[v as usize];
+        if self.next_reset.is_some() && x.dist == f64::INFINITY && !x.inside {
             self.front.push(v);
         }
-        self.dist[vi] = d;
-        self.src[vi] = s;
+        x.dist = d;
+        x.src = s;
         // A vertex ahead of the wavefront is (re)queued; an inside one only
         // matters again if it is a pseudo-source that must re-emit.
-        if !self.inside[vi] || (self.pseudo[vi] && self.should_emit(vi, d)) {
+        if !x.inside || (x.pseudo && should_emit(&self.tol, x.emitted, d)) {
             self.heap.push(Reverse((d.to_bits(), v)));
         }
-    }
-
-    #[inline]
-    fn should_emit(&self, v: usize, d: f64) -> bool {
-        let e = self.emitted[v];
-        e == f64::INFINITY || self.tol.beats(d, e)
     }
 
     // ------------------------------------------------------------ main loop
@@ -272,7 +263,7 @@ impl<'a> Solver<'a> {
             };
             let vi = v as usize;
             let d = f64::from_bits(key);
-            if d.to_bits() != self.dist[vi].to_bits() {
+            if d.to_bits() != self.verts[vi].dist.to_bits() {
                 continue; // stale entry (lazy deletion)
             }
             if let Some(m) = self.options.max_distance
@@ -285,15 +276,17 @@ impl<'a> Solver<'a> {
             {
                 self.reset_windows(d);
             }
-            let first = !self.inside[vi];
-            let emit = self.pseudo[vi] && self.should_emit(vi, d);
+            // Read after the reset, which may have made v a pseudo-source.
+            let x = self.verts[vi];
+            let first = !x.inside;
+            let emit = x.pseudo && should_emit(&self.tol, x.emitted, d);
             if !first && !emit {
                 continue;
             }
             self.pops += 1;
             self.stats.vertex_pops += 1;
             if first {
-                self.inside[vi] = true;
+                self.verts[vi].inside = true;
             }
             if first && !face_sorted {
                 // The faces around v join the traversed area; the lists
@@ -375,11 +368,11 @@ impl<'a> Solver<'a> {
         let guard = boundary + reset.lambda_g * self.mean_edge;
         self.resets += 1;
         let round = self.resets;
-        let inside = &self.inside;
-        self.front.retain(|&v| !inside[v as usize]);
+        let verts = &self.verts;
+        self.front.retain(|&v| !verts[v as usize].inside);
         let front = std::mem::take(&mut self.front);
         for &v in &front {
-            if self.dist[v as usize] <= guard {
+            if self.verts[v as usize].dist <= guard {
                 self.reset_round[v as usize] = round;
                 self.force_pseudo(v);
             }
@@ -407,12 +400,11 @@ impl<'a> Solver<'a> {
     /// Deletes the windows waiting on half-edge `h` (AVTP's reset).
     fn drop_list(&mut self, h: u32) {
         let hi = h as usize;
-        let idx = self.slot[hi];
-        if idx == NONE {
+        let idx = self.slot[hi] & !QUEUED;
+        if idx == NO_LIST {
             return;
         }
-        self.slot[hi] = NONE;
-        self.queued[hi] = false;
+        self.slot[hi] = NO_LIST;
         let list = &mut self.pool[idx as usize];
         self.live -= list.len() as u64;
         list.clear();
@@ -424,10 +416,9 @@ impl<'a> Solver<'a> {
     /// 5.2, "Saddle Vertices").
     fn emit(&mut self, v: u32) {
         let mesh = self.mesh;
-        let vi = v as usize;
-        let d = self.dist[vi];
-        let s = self.src[vi];
-        self.emitted[vi] = d;
+        let x = &mut self.verts[v as usize];
+        let (d, s) = (x.dist, x.src);
+        x.emitted = d;
         self.stats.pseudo_source_emissions += 1;
         for h in mesh.outgoing(v) {
             let a = mesh.head(h);
@@ -468,9 +459,9 @@ impl<'a> Solver<'a> {
 
     #[inline]
     fn enqueue(&mut self, h: u32) {
-        let hi = h as usize;
-        if self.slot[hi] != NONE && !self.queued[hi] {
-            self.queued[hi] = true;
+        let s = &mut self.slot[h as usize];
+        if *s & QUEUED == 0 && *s != NO_LIST {
+            *s |= QUEUED;
             self.fifo.push_back(h);
         }
     }
@@ -484,16 +475,20 @@ impl<'a> Solver<'a> {
             return;
         }
         let hi = h as usize;
-        let mut idx = self.slot[hi];
-        if idx == NONE {
+        let mut idx = self.slot[hi] & !QUEUED;
+        if idx == NO_LIST {
             idx = match self.free.pop() {
                 Some(i) => i,
                 None => {
                     self.pool.push(Vec::new());
-                    (self.pool.len() - 1) as u32
+                    let i = (self.pool.len() - 1) as u32;
+                    assert!(i < NO_LIST, "fewer window lists than 2^31 - 1");
+                    i
                 }
             };
-            self.slot[hi] = idx;
+            // Keeps the queued bit: the half-edge may still wait in the
+            // FIFO from a list that emptied.
+            self.slot[hi] = idx | (self.slot[hi] & QUEUED);
         }
         let list = &mut self.pool[idx as usize];
         let before = list.len();
@@ -540,14 +535,16 @@ impl<'a> Solver<'a> {
             self.stats.peak_live_windows = self.live;
         }
         if after == 0 {
-            self.slot[hi] = NONE;
+            self.slot[hi] = NO_LIST | (self.slot[hi] & QUEUED);
             self.free.push(idx);
             return;
         }
         match self.options.schedule {
             Schedule::VertexSorted => {
                 let mesh = self.mesh;
-                if self.inside[mesh.tail(h) as usize] || self.inside[mesh.head(h) as usize] {
+                if self.verts[mesh.tail(h) as usize].inside
+                    || self.verts[mesh.head(h) as usize].inside
+                {
                     self.enqueue(h);
                 }
             }
@@ -577,12 +574,11 @@ impl<'a> Solver<'a> {
     /// lists beyond the two other edges.
     fn process(&mut self, h: u32) {
         let hi = h as usize;
-        self.queued[hi] = false;
-        let idx = self.slot[hi];
-        if idx == NONE {
+        let idx = self.slot[hi] & !QUEUED;
+        self.slot[hi] = NO_LIST;
+        if idx == NO_LIST {
             return;
         }
-        self.slot[hi] = NONE;
         let mut list = std::mem::take(&mut self.pool[idx as usize]);
         self.live -= list.len() as u64;
         // Phase times are sampled: one list in PHASE_SAMPLE is timed (two
@@ -636,13 +632,13 @@ impl<'a> Solver<'a> {
         // the list may have waited on the wavefront while the distances of
         // its edge's ends, and of the vertex behind it, went down.
         if self.options.pruning.vertex_check {
-            let (da, db) = (self.dist[a as usize], self.dist[b as usize]);
+            let (da, db) = (self.verts[a as usize].dist, self.verts[b as usize].dist);
             let (behind, d_behind) = match mesh.twin(h) {
                 Some(t) if self.kind[Mesh::face_of(t) as usize] == FaceKind::Proper => {
                     let q = self.apex[t as usize];
                     (
                         DVec2::new(tri.l - q.x, -q.y),
-                        self.dist[mesh.opposite_vertex(t) as usize],
+                        self.verts[mesh.opposite_vertex(t) as usize].dist,
                     )
                 }
                 _ => (DVec2::ZERO, f64::INFINITY),
@@ -684,9 +680,9 @@ impl<'a> Solver<'a> {
         let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
         let a_right = tri.to_right_frame(DVec2::ZERO);
         let (da, db, dc) = (
-            self.dist[a as usize],
-            self.dist[b as usize],
-            self.dist[c as usize],
+            self.verts[a as usize].dist,
+            self.verts[b as usize].dist,
+            self.verts[c as usize].dist,
         );
         let mut left = std::mem::take(&mut self.left);
         let mut right = std::mem::take(&mut self.right);
@@ -749,9 +745,17 @@ impl<'a> Solver<'a> {
 
     fn finish(self) -> DistanceField {
         DistanceField::from_vertices(self.mesh, self.options.max_distance, |v| {
-            (self.dist[v], self.src[v])
+            (self.verts[v].dist, self.verts[v].src)
         })
     }
+}
+
+/// Whether a pseudo-source now at `d`, which last emitted at `emitted`
+/// (infinite: never), must emit (again): only when its distance dropped by
+/// more than the tolerance.
+#[inline]
+fn should_emit(tol: &Tolerance, emitted: f64, d: f64) -> bool {
+    emitted == f64::INFINITY || tol.beats(d, emitted)
 }
 
 /// Rules 2 and 3 with the order-preserving merge (OPVTP): `w` is inserted

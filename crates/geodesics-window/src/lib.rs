@@ -58,7 +58,7 @@ mod types;
 mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
-pub use setup::{FaceKind, NO_GROUP, SolverSetup, face_kind};
+pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState, face_kind};
 pub use sources::{
     Seeds, SourceError, SourceStart, barycentric_ok, seeds, source_start, validate_sources,
 };

@@ -1,11 +1,12 @@
-//! What every window solver derives from the mesh before it starts: each
-//! half-edge's apex in its frame, how each face is crossed, which vertices
-//! are pseudo-sources, and the pinch groups.
+//! What every window solver derives from the mesh before it starts: how
+//! each face is crossed, which vertices are pseudo-sources, and the pinch
+//! groups (each half-edge's apex in its frame comes with the mesh:
+//! [`Mesh::apex`]).
 
 use geodesics_mesh::Mesh;
 use glam::DVec2;
 
-use crate::{Tolerance, frame_coords};
+use crate::Tolerance;
 
 /// `group_of` value of a vertex that is not a pinch copy.
 pub const NO_GROUP: u32 = u32::MAX;
@@ -39,11 +40,29 @@ pub fn face_kind(mesh: &Mesh, f: u32, apex: impl Fn(u32) -> DVec2) -> FaceKind {
     }
 }
 
+/// What a window solver keeps per vertex, packed so that touching a
+/// vertex (relaxing it, popping it, checking a window against it) reads
+/// one cache line, not one per array.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VertexState {
+    /// Current distance (infinite: not reached).
+    pub dist: f64,
+    /// Distance at which it last emitted pseudo-source windows (infinite:
+    /// never).
+    pub emitted: f64,
+    /// Index of the source of `dist`.
+    pub src: u32,
+    /// Popped at least once: in the traversed area.
+    pub inside: bool,
+    /// A pseudo-source (see [`SolverSetup::pseudo`]).
+    pub pseudo: bool,
+    /// Has pinch copies (see [`SolverSetup::group_of`]).
+    pub grouped: bool,
+}
+
 /// The per-mesh tables a solver starts from.
 #[derive(Clone, Debug)]
 pub struct SolverSetup {
-    /// Per half-edge: the opposite corner in the half-edge's frame.
-    pub apex: Vec<DVec2>,
     /// Per face: how it is crossed.
     pub kind: Vec<FaceKind>,
     /// Per vertex: a pseudo-source (boundary, saddle or flat vertex, corner
@@ -57,15 +76,28 @@ pub struct SolverSetup {
 }
 
 impl SolverSetup {
+    /// Every vertex unreached, with its pseudo-source and pinch flags.
+    pub fn vertex_states(&self) -> Vec<VertexState> {
+        self.pseudo
+            .iter()
+            .zip(&self.group_of)
+            .map(|(&pseudo, &g)| VertexState {
+                dist: f64::INFINITY,
+                emitted: f64::INFINITY,
+                src: crate::NO_SOURCE,
+                inside: false,
+                pseudo,
+                grouped: g != NO_GROUP,
+            })
+            .collect()
+    }
+
     /// The tables of `mesh` under the tolerance policy `tol` (which decides
     /// flat and saddle vertices).
     pub fn new(mesh: &Mesh, tol: &Tolerance) -> SolverSetup {
         let nv = mesh.vertex_count();
-        let apex: Vec<DVec2> = (0..mesh.half_edge_count() as u32)
-            .map(|h| frame_coords(mesh, h, mesh.position(mesh.opposite_vertex(h))))
-            .collect();
         let kind: Vec<FaceKind> = (0..mesh.face_count() as u32)
-            .map(|f| face_kind(mesh, f, |h| apex[h as usize]))
+            .map(|f| face_kind(mesh, f, |h| mesh.apex(h)))
             .collect();
         // Pseudo-sources: a geodesic may pass through these vertices.
         let mut pseudo: Vec<bool> = (0..nv as u32)
@@ -96,7 +128,6 @@ impl SolverSetup {
             }
         }
         SolverSetup {
-            apex,
             kind,
             pseudo,
             group_of,
