@@ -151,12 +151,13 @@ struct JobIn {
 }
 
 /// What one face job reports (its delayed writes), reused across phases.
+///
+/// The counters come first and fill one cache line (`repr(C)`, aligned to
+/// 64 bytes), so clearing a record for its next job writes one line; the
+/// update slots follow and are written only as far as they are used.
 #[derive(Clone, Debug)]
+#[repr(C, align(64))]
 struct JobOut {
-    /// Distance updates `(vertex, distance, source)` that beat the frozen
-    /// distances: neighbours of emitting corners along the edges, then the
-    /// apex of each list; `updates[..n_updates]` are valid.
-    updates: [(u32, f64, u32); 9],
     n_updates: u8,
     /// Whether the face joined the traversed area in this round.
     prime: bool,
@@ -171,7 +172,14 @@ struct JobOut {
     props: u64,
     /// Pseudo-source windows made.
     emitted: u64,
+    /// Distance updates `(vertex, distance, source)` that beat the frozen
+    /// distances: neighbours of emitting corners along the edges, then the
+    /// apex of each list; `updates[..n_updates]` are valid.
+    updates: [(u32, f64, u32); 9],
 }
+
+// The counters of a record share its first cache line.
+const _: () = assert!(std::mem::offset_of!(JobOut, updates) <= 64);
 
 impl Default for JobOut {
     fn default() -> Self {
