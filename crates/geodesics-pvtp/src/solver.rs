@@ -12,15 +12,19 @@
 //! sequentially in job order.
 //!
 //! Each half-edge has a main list and a side list (the dual arrays
-//! `A_from` / `A_to`): a job *takes* the main lists of its selected
+//! `A_from` / `A_to`), each an index into a pool of window lists (as in
+//! VTP: memory follows the wavefront): a job *takes* the main lists of its selected
 //! half-edges, and appends children to the lists beyond its edges — to
 //! the side list when that list is being taken in the same phase, to the
 //! main one otherwise; after the phase the side lists that got windows
 //! become main. Each list is thus touched by exactly one job of a phase
 //! (its own face's job takes it, the job of the face across writes it),
 //! so jobs never wait for each other and the result does not depend on
-//! thread timing. (The per-half-edge `Mutex` only proves that exclusivity
-//! to the compiler; it is never contended.)
+//! thread timing. (The per-list `Mutex` and the atomic slots only prove
+//! that exclusivity to the compiler; they are never contended.) A worker
+//! gives the lists it starts pool entries from its own free list, which
+//! the sequential part tops up before each phase to three per job, the
+//! most one job can start.
 //!
 //! Vertex distances are frozen during a phase: jobs read them for the
 //! vertex checks and report their apex candidates; the sequential merge
@@ -29,6 +33,7 @@
 //! the next phase the lists that received children and have an end
 //! inside the traversed area, exactly when VTP would queue them.
 
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
@@ -63,8 +68,8 @@ const K_AD_MAX: usize = 1_000_000_000;
 /// same result): fork/join would cost more than it saves.
 const PARALLEL_MIN_JOBS: usize = 24;
 
-/// Spare list buffers a worker keeps for reuse.
-const STASH: usize = 256;
+/// Slot value of a half-edge list that has no pool entry.
+const NO_LIST: u32 = u32::MAX;
 
 /// Flags of a list beyond a job's edge: windows were appended, to the
 /// side list, and the list has an end inside the traversed area.
@@ -72,15 +77,32 @@ const TOUCHED: u8 = 1;
 const TO_SIDE: u8 = 2;
 const QUEUE: u8 = 4;
 
-/// The two lists of one half-edge: which one is the main list is bit 0
-/// of its state word (see [`Solver`]), the other is the side list.
-type ListPair = Mutex<[Vec<EndedWindow>; 2]>;
+/// The two lists of one half-edge, as pool indices (`NO_LIST`: none):
+/// which one is the main list is bit 0 of its state word (see
+/// [`FaceRec`]), the other is the side list.
+type ListSlots = [AtomicU32; 2];
+
+/// One entry of the list pool.
+type PooledList = Mutex<Vec<EndedWindow>>;
 
 #[inline]
-fn lock(m: &ListPair) -> MutexGuard<'_, [Vec<EndedWindow>; 2]> {
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     // A poisoned lock means a worker panicked (an invariant broke); the
     // panic propagates through rayon anyway, the data is still usable.
     m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+// Slots are read and written by the one job that owns the list in a phase
+// (and by the sequential part between phases, after rayon's join), so
+// relaxed loads and stores suffice.
+#[inline]
+fn slot_get(slots: &ListSlots, which: usize) -> u32 {
+    slots[which].load(Ordering::Relaxed)
+}
+
+#[inline]
+fn slot_set(slots: &ListSlots, which: usize, idx: u32) {
+    slots[which].store(idx, Ordering::Relaxed);
 }
 
 /// Merges `windows` into `list` with VTP's default merge (lists kept in
@@ -133,7 +155,8 @@ struct Shared<'a> {
     apex: &'a [DVec2],
     kind: &'a [FaceKind],
     verts: &'a [VertexState],
-    lists: &'a [ListPair],
+    slots: &'a [ListSlots],
+    pool: &'a [PooledList],
     faces: &'a [FaceRec],
     round: u32,
     phase: u32,
@@ -237,8 +260,8 @@ struct Scratch {
     left: Vec<EndedWindow>,
     right: Vec<EndedWindow>,
     info: Vec<(f64, f64, f64)>,
-    /// Emptied list buffers kept to give to lists that start anew.
-    stash: Vec<Vec<EndedWindow>>,
+    /// Pool entries this worker gives to the lists it starts.
+    free: Vec<u32>,
     merge: MergeBuffers,
 }
 
@@ -294,10 +317,13 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         }
         let h = 3 * f + i as u32;
         let main = (sh.faces[f as usize].state[i] & 1) as usize;
-        let mut list = std::mem::take(&mut lock(&sh.lists[h as usize])[main]);
-        if list.is_empty() {
+        let slots = &sh.slots[h as usize];
+        let idx = slot_get(slots, main);
+        if idx == NO_LIST {
             continue;
         }
+        slot_set(slots, main, NO_LIST);
+        let mut list = lock(&sh.pool[idx as usize]);
         out.consumed += list.len() as u64;
         match kind {
             FaceKind::Proper => {
@@ -322,10 +348,10 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
             }
             FaceKind::Blocked => {}
         }
-        if s.stash.len() < STASH && list.capacity() > 0 {
-            list.clear();
-            s.stash.push(list);
-        }
+        // The entry keeps its buffer for the next list it is given.
+        list.clear();
+        drop(list);
+        s.free.push(idx);
     }
 }
 
@@ -348,15 +374,24 @@ fn append_beyond(
     };
     let st = sh.faces[(t / 3) as usize].state[(t % 3) as usize];
     let to_side = st >> 1 == sh.phase;
-    let mut guard = lock(&sh.lists[t as usize]);
-    let list = &mut guard[(st & 1) as usize ^ usize::from(to_side)];
-    if list.capacity() == 0
-        && let Some(spare) = s.stash.pop()
-    {
-        *list = spare;
+    let which = (st & 1) as usize ^ usize::from(to_side);
+    let slots = &sh.slots[t as usize];
+    let mut idx = slot_get(slots, which);
+    if idx == NO_LIST {
+        idx = s
+            .free
+            .pop()
+            .expect("the free list holds three entries per job of the phase");
+        slot_set(slots, which, idx);
     }
+    let mut list = lock(&sh.pool[idx as usize]);
     let before = list.len();
-    let after = prune_append(list, windows, &mut s.merge, &sh.tol);
+    let after = prune_append(&mut list, windows, &mut s.merge, &sh.tol);
+    drop(list);
+    if after == 0 {
+        slot_set(slots, which, NO_LIST);
+        s.free.push(idx);
+    }
     out.grown += after as i64 - before as i64;
     let mesh = sh.mesh;
     let queue = sh.verts[mesh.tail(t) as usize].inside || sh.verts[mesh.head(t) as usize].inside;
@@ -474,7 +509,10 @@ pub(crate) struct Solver<'a> {
     group_of: Vec<u32>,
     groups: Vec<Vec<u32>>,
     buckets: Buckets,
-    lists: Vec<ListPair>,
+    slots: Vec<ListSlots>,
+    pool: Vec<PooledList>,
+    /// Pool entries no list or worker holds.
+    free: Vec<u32>,
     faces: Vec<FaceRec>,
     /// Per vertex `v`: its outgoing half-edges are
     /// `fan[fan_start[v]..fan_start[v + 1]]` (one per face around it).
@@ -553,10 +591,11 @@ impl<'a> Solver<'a> {
             group_of,
             groups,
             buckets: Buckets::new(width, cap),
-            lists: (0..nh)
-                .into_par_iter()
-                .map(|_| Mutex::new([Vec::new(), Vec::new()]))
+            slots: (0..nh)
+                .map(|_| [AtomicU32::new(NO_LIST), AtomicU32::new(NO_LIST)])
                 .collect(),
+            pool: Vec::new(),
+            free: Vec::new(),
             faces: vec![
                 FaceRec {
                     job_phase: NONE,
@@ -673,14 +712,24 @@ impl<'a> Solver<'a> {
     /// Appends to the main list of half-edge `h` outside a phase (seeds).
     fn append_now(&mut self, h: u32, windows: &mut [EndedWindow]) {
         let main = (self.faces[(h / 3) as usize].state[(h % 3) as usize] & 1) as usize;
-        let list = &mut self.lists[h as usize]
+        let slots = &self.slots[h as usize];
+        let mut idx = slot_get(slots, main);
+        if idx == NO_LIST {
+            idx = take_entry(&mut self.free, &mut self.pool);
+            slot_set(slots, main, idx);
+        }
+        let list = self.pool[idx as usize]
             .get_mut()
-            .unwrap_or_else(PoisonError::into_inner)[main];
+            .unwrap_or_else(PoisonError::into_inner);
         let before = list.len();
         let scratch = self.scratch[0]
             .get_mut()
             .unwrap_or_else(PoisonError::into_inner);
         let after = prune_append(list, windows, &mut scratch.merge, &self.tol);
+        if after == 0 {
+            slot_set(slots, main, NO_LIST);
+            self.free.push(idx);
+        }
         self.live = self.live + after as u64 - before as u64;
         self.stats.peak_live_windows = self.stats.peak_live_windows.max(self.live);
         let mesh = self.mesh;
@@ -858,10 +907,19 @@ impl<'a> Solver<'a> {
                         continue;
                     }
                     for t in std::iter::once(e).chain(mesh.twin(e)) {
-                        let mut pair = lock(&self.lists[t as usize]);
-                        for list in pair.iter_mut() {
+                        let slots = &self.slots[t as usize];
+                        for which in 0..2 {
+                            let idx = slot_get(slots, which);
+                            if idx == NO_LIST {
+                                continue;
+                            }
+                            slot_set(slots, which, NO_LIST);
+                            let list = self.pool[idx as usize]
+                                .get_mut()
+                                .unwrap_or_else(PoisonError::into_inner);
                             dropped += list.len() as u64;
                             list.clear();
+                            self.free.push(idx);
                         }
                     }
                 }
@@ -891,6 +949,23 @@ impl<'a> Solver<'a> {
         made
     }
 
+    /// Gives each of the first `workers` workers three free pool entries
+    /// per job of the coming phase (the most one job can start: a list
+    /// beyond each of its edges), from the shared free list or a grown
+    /// pool, and takes back what a worker holds beyond twice that.
+    fn top_up_free_lists(&mut self, workers: usize, jobs: usize) {
+        let need = 3 * jobs;
+        for m in &mut self.scratch[..workers] {
+            let s = m.get_mut().unwrap_or_else(PoisonError::into_inner);
+            if s.free.len() > 2 * need {
+                self.free.extend(s.free.drain(2 * need..));
+            }
+            while s.free.len() < need {
+                s.free.push(take_entry(&mut self.free, &mut self.pool));
+            }
+        }
+    }
+
     /// One phase: the jobs in parallel, then their delayed writes in job
     /// order.
     fn run_phase(&mut self) {
@@ -900,6 +975,8 @@ impl<'a> Solver<'a> {
         if self.outs.len() < n {
             self.outs.resize_with(n, JobOut::default);
         }
+        let parallel = n >= PARALLEL_MIN_JOBS && self.threads > 1;
+        self.top_up_free_lists(if parallel { self.scratch.len() } else { 1 }, n);
         let t0 = Instant::now();
         {
             let sh = Shared {
@@ -908,7 +985,8 @@ impl<'a> Solver<'a> {
                 apex: self.mesh.apex_table(),
                 kind: &self.kind,
                 verts: &self.verts,
-                lists: &self.lists,
+                slots: &self.slots,
+                pool: &self.pool,
                 faces: &self.faces,
                 round: self.round,
                 phase: self.phase,
@@ -916,8 +994,8 @@ impl<'a> Solver<'a> {
             let outs = &mut self.outs[..n];
             let jobs = &self.current[..];
             let scratch = &self.scratch;
-            if n < PARALLEL_MIN_JOBS || self.threads <= 1 {
-                let mut s = scratch[0].lock().unwrap_or_else(PoisonError::into_inner);
+            if !parallel {
+                let mut s = lock(&scratch[0]);
                 for (out, job) in outs.iter_mut().zip(jobs) {
                     run_job(&sh, job, &mut s, out);
                 }
@@ -926,14 +1004,17 @@ impl<'a> Solver<'a> {
                     .zip(jobs.par_iter())
                     .with_min_len(4)
                     .for_each_init(
+                        // One scratch per worker thread. A worker holds it
+                        // for one leaf of the split at a time (the jobs
+                        // call no rayon, so nothing nests), so the lock is
+                        // always free.
                         || {
-                            let i = rayon::current_thread_index().unwrap_or(0) % scratch.len();
-                            scratch[i].try_lock().ok()
+                            lock(
+                                &scratch
+                                    [rayon::current_thread_index().unwrap_or(0) % scratch.len()],
+                            )
                         },
-                        |guard, (out, job)| match guard {
-                            Some(s) => run_job(&sh, job, s, out),
-                            None => run_job(&sh, job, &mut Scratch::default(), out),
-                        },
+                        |s, (out, job)| run_job(&sh, job, s, out),
                     );
             }
         }
@@ -990,6 +1071,16 @@ impl<'a> Solver<'a> {
             stats.peak_live_windows * std::mem::size_of::<EndedWindow>() as u64;
         (field, stats)
     }
+}
+
+/// A free pool entry: the last one freed, or a new one.
+fn take_entry(free: &mut Vec<u32>, pool: &mut Vec<PooledList>) -> u32 {
+    free.pop().unwrap_or_else(|| {
+        pool.push(Mutex::new(Vec::new()));
+        let i = pool.len() - 1;
+        assert!(i < NO_LIST as usize, "fewer window lists than 2^32 - 1");
+        i as u32
+    })
 }
 
 /// Checks the sources and options (the same refusals as VTP's).
