@@ -45,8 +45,6 @@ struct Solver<'a> {
     mesh: &'a Mesh,
     options: &'a IchOptions,
     tol: Tolerance,
-    /// Per half-edge: the opposite corner in the half-edge's frame.
-    apex: &'a [DVec2],
     kind: Vec<FaceKind>,
     /// Per half-edge: Chen and Han's angle record (one angle one split).
     angle: Vec<Angle>,
@@ -119,7 +117,6 @@ impl<'a> Solver<'a> {
             mesh,
             options,
             tol,
-            apex: mesh.apex_table(),
             kind,
             angle: vec![Angle::EMPTY; nh],
             dist: vec![f64::INFINITY; nv],
@@ -258,7 +255,7 @@ impl<'a> Solver<'a> {
             let o = Mesh::next(h);
             let Some(t) = mesh.twin(o) else { continue };
             let l = mesh.length(o);
-            let c = self.apex[o as usize];
+            let c = self.mesh.apex(o);
             let w = Window::across_edge(l, c, d, s);
             self.stats.windows_created += 1;
             self.push_window(w, t, true);
@@ -301,7 +298,7 @@ impl<'a> Solver<'a> {
         // configuration allows, the corner behind it.
         let behind = match mesh.twin(h) {
             Some(t) if third => {
-                let q = self.apex[t as usize];
+                let q = self.mesh.apex(t);
                 let dq = self.dist[mesh.opposite_vertex(t) as usize];
                 (DVec2::new(l - q.x, -q.y), dq)
             }
@@ -310,7 +307,7 @@ impl<'a> Solver<'a> {
         if vertex_check(&w, l, corners.a, corners.b, behind.0, behind.1, &self.tol) {
             return;
         }
-        let tri = Triangle::with_lengths(l, self.apex[h as usize], mesh.length(p), mesh.length(n));
+        let tri = Triangle::with_lengths(l, self.mesh.apex(h), mesh.length(p), mesh.length(n));
         let out = rules::cross(&w, &tri, &mut self.angle[h as usize], corners, &self.tol);
         self.relax(c, out.apex, w.source);
         let props = u64::from(out.propagations);

@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 
 use crate::summary::{AnisotropyStats, MeshSummary};
 use crate::union_find::UnionFind;
@@ -137,7 +137,6 @@ impl Mesh {
     fn compute_geometry(&mut self) {
         let n = self.faces.len() * 3;
         self.length = Vec::with_capacity(n);
-        self.apex = Vec::with_capacity(n);
         self.corner_angle = Vec::with_capacity(n);
         for f in &self.faces {
             let p = f.map(|v| self.positions[v as usize]);
@@ -145,23 +144,15 @@ impl Mesh {
                 self.length.push(p[i].distance(p[(i + 1) % 3]));
             }
             for i in 0..3 {
-                // The opposite corner in the frame of the half-edge from
-                // corner i to corner i + 1.
-                let e = p[(i + 1) % 3] - p[i];
-                let r = p[(i + 2) % 3] - p[i];
-                let l = self.length[self.length.len() - 3 + i];
-                self.apex.push(if l <= 0.0 {
-                    DVec2::ZERO
-                } else {
-                    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
-                });
-            }
-            for i in 0..3 {
                 let a = p[(i + 1) % 3] - p[i];
                 let b = p[(i + 2) % 3] - p[i];
                 self.corner_angle.push(angle_between(a, b));
             }
         }
+        let apex = (0..n as u32)
+            .map(|h| self.frame_coords(h, self.position(self.opposite_vertex(h))))
+            .collect();
+        self.apex = apex;
         self.angle_sum = vec![0.0; self.positions.len()];
         for (h, &angle) in self.corner_angle.iter().enumerate() {
             let v = self.faces[h / 3][h % 3];

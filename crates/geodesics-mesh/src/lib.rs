@@ -202,17 +202,26 @@ impl Mesh {
     /// The corner of `h`'s face opposite `h`, in the frame of `h`: tail at
     /// the origin, head at `(length(h), 0)`, the face above (`y ≥ 0`). A
     /// zero-length half-edge gives the origin. This is the triangle every
-    /// window solver unfolds a face into, computed once when the mesh is
-    /// built.
+    /// window solver unfolds a face into: [`Mesh::frame_coords`] of the
+    /// opposite vertex, computed once when the mesh is built.
     #[inline]
     pub fn apex(&self, h: u32) -> DVec2 {
         self.apex[h as usize]
     }
 
-    /// [`Mesh::apex`] of every half-edge, indexed by half-edge.
-    #[inline]
-    pub fn apex_table(&self) -> &[DVec2] {
-        &self.apex
+    /// Coordinates of `q` in the frame of half-edge `h` (tail at the
+    /// origin, head on +x, the face of `h` above), for `q` in the closed
+    /// face of `h` (so `y ≥ 0`): the frame every window solver puts windows
+    /// in. A zero-length half-edge maps everything to the origin.
+    pub fn frame_coords(&self, h: u32, q: DVec3) -> DVec2 {
+        let t = self.position(self.tail(h));
+        let e = self.position(self.head(h)) - t;
+        let l = self.length(h);
+        if l <= 0.0 {
+            return DVec2::ZERO;
+        }
+        let r = q - t;
+        DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
     }
 
     /// Interior angle of the face of `h` at the tail of `h` (corner `h`).

@@ -7,7 +7,6 @@
 use geodesics_mesh::Mesh;
 use geodesics_window::{
     DistanceField, FaceKind, GeodesicPath, Source, Stats, SurfacePoint, barycentric_ok,
-    frame_coords,
 };
 use glam::{DVec2, DVec3};
 
@@ -290,7 +289,7 @@ impl<'a> MmpField<'a> {
         for &f in faces {
             for h in 3 * f..3 * f + 3 {
                 let e = s.edge_of[h as usize] as usize;
-                let q2 = frame_coords(mesh, h, q);
+                let q2 = mesh.frame_coords(h, q);
                 for &id in &s.lists[e] {
                     let w = s.wins[id as usize];
                     if w.h != h {

@@ -197,7 +197,6 @@ struct Solver<'a> {
     mesh: &'a Mesh,
     max_distance: Option<f64>,
     tol: Tolerance,
-    apex: &'a [DVec2],
     kind: Vec<FaceKind>,
     pseudo: Vec<bool>,
     dist: Vec<f64>,
@@ -309,7 +308,6 @@ impl<'a> Solver<'a> {
             mesh,
             max_distance: options.max_distance,
             tol,
-            apex: mesh.apex_table(),
             kind,
             pseudo,
             dist: vec![f64::INFINITY; nv],
@@ -451,7 +449,7 @@ impl<'a> Solver<'a> {
             let o = Mesh::next(h);
             let Some(t) = mesh.twin(o) else { continue };
             let l = mesh.length(o);
-            let c = self.apex[o as usize];
+            let c = self.mesh.apex(o);
             let w = Window::across_edge(l, c, d, s);
             self.insert(t, &w, NONE, v);
         }
@@ -483,7 +481,7 @@ impl<'a> Solver<'a> {
                 let p = Mesh::prev(h);
                 let tri = Triangle::with_lengths(
                     mesh.length(h),
-                    self.apex[h as usize],
+                    self.mesh.apex(h),
                     mesh.length(p),
                     mesh.length(n),
                 );

@@ -152,7 +152,6 @@ struct FaceRec {
 struct Shared<'a> {
     mesh: &'a Mesh,
     tol: Tolerance,
-    apex: &'a [DVec2],
     kind: &'a [FaceKind],
     verts: &'a [VertexState],
     slots: &'a [ListSlots],
@@ -301,7 +300,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
                 continue;
             }
             let l = mesh.length(o);
-            let c = sh.apex[o as usize];
+            let c = sh.mesh.apex(o);
             let w = Window::across_edge(l, c, sigma, source);
             out.emitted += 1;
             append_beyond(sh, f, (j + 1) % 3, &mut [EndedWindow::new(w)], s, out);
@@ -406,8 +405,9 @@ fn append_beyond(
 /// ends and of the vertex behind it, Rule 1 (one angle two sides) against
 /// the list's best path to the apex, one step per window, the vertex check
 /// on each child. Children go to `s.left` (beyond `CA`) and `s.right`
-/// (beyond `BC`); the apex candidate to `out.apex[i]` (the write to the
-/// apex is delayed to the merge).
+/// (beyond `BC`); the list's best path to the apex, where it beats the
+/// frozen distance, to `out`'s updates (the write is delayed to the
+/// merge).
 fn cross(
     sh: &Shared<'_>,
     h: u32,
@@ -424,7 +424,7 @@ fn cross(
     let (ia, ib, ic) = (i, (i + 1) % 3, (i + 2) % 3);
     let tri = Triangle::with_lengths(
         mesh.length(h),
-        sh.apex[h as usize],
+        sh.mesh.apex(h),
         mesh.length(p),
         mesh.length(n),
     );
@@ -436,7 +436,7 @@ fn cross(
         let (da, db) = (d[ia], d[ib]);
         let (behind, d_behind) = match mesh.twin(h) {
             Some(t) if sh.kind[Mesh::face_of(t) as usize] == FaceKind::Proper => {
-                let q = sh.apex[t as usize];
+                let q = sh.mesh.apex(t);
                 (
                     DVec2::new(tri.l - q.x, -q.y),
                     sh.verts[mesh.opposite_vertex(t) as usize].dist,
@@ -982,7 +982,6 @@ impl<'a> Solver<'a> {
             let sh = Shared {
                 mesh: self.mesh,
                 tol: self.tol,
-                apex: self.mesh.apex_table(),
                 kind: &self.kind,
                 verts: &self.verts,
                 slots: &self.slots,

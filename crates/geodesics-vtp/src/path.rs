@@ -240,11 +240,6 @@ fn corners(mesh: &Mesh, e: u32) -> [DVec2; 3] {
     [DVec2::ZERO, DVec2::new(mesh.length(e), 0.0), mesh.apex(e)]
 }
 
-/// How face `f` is crossed (the solver's classification).
-fn face_kind_of(mesh: &Mesh, f: u32) -> FaceKind {
-    face_kind(mesh, f, |h| corners(mesh, h)[2])
-}
-
 /// `q` (in the frame whose face has corners `c`) in the frame of the
 /// face's half-edge number `i` (from `c[i]` to `c[i + 1]`).
 fn reframe(c: &[DVec2; 3], i: usize, q: DVec2) -> DVec2 {
@@ -502,7 +497,7 @@ impl Tracer<'_> {
     ) -> Step {
         let mesh = self.mesh;
         let f = Mesh::face_of(e);
-        match face_kind_of(mesh, f) {
+        match face_kind(mesh, f) {
             FaceKind::Blocked => return Step::Fail,
             FaceKind::Zipper => {
                 // The two long edges are one segment with identical frames
@@ -669,7 +664,7 @@ impl Tracer<'_> {
             let g = he(e, i);
             let pg = reframe(&c, i, p);
             let t = mesh.twin(g)?;
-            if face_kind_of(mesh, Mesh::face_of(t)) != FaceKind::Proper {
+            if face_kind(mesh, Mesh::face_of(t)) != FaceKind::Proper {
                 return None;
             }
             let len = mesh.length(g);

@@ -33,8 +33,6 @@ struct Solver<'a> {
     mesh: &'a Mesh,
     options: &'a VtpOptions,
     tol: Tolerance,
-    /// Per half-edge: the opposite corner in the half-edge's frame.
-    apex: &'a [DVec2],
     kind: Vec<FaceKind>,
     verts: Vec<VertexState>,
     /// Per vertex: index into `groups` of its pinch group, or NONE.
@@ -134,7 +132,6 @@ impl<'a> Solver<'a> {
             mesh,
             options,
             tol,
-            apex: mesh.apex_table(),
             kind,
             verts,
             group_of,
@@ -450,7 +447,7 @@ impl<'a> Solver<'a> {
             let o = Mesh::next(h);
             let Some(t) = mesh.twin(o) else { continue };
             let l = mesh.length(o);
-            let c = self.apex[o as usize];
+            let c = self.mesh.apex(o);
             let w = Window::across_edge(l, c, d, s);
             self.stats.windows_created += 1;
             self.append(t, &mut [EndedWindow::new(w)]);
@@ -555,7 +552,7 @@ impl<'a> Solver<'a> {
                 } else {
                     // FTP's triangle priority: the best path to the apex
                     // through the windows waiting to enter it.
-                    let tri = Triangle::new(self.mesh.length(h), self.apex[h as usize]);
+                    let tri = Triangle::new(self.mesh.length(h), self.mesh.apex(h));
                     let key = windows
                         .iter()
                         .map(|e| e.window.apex_distance(&tri).0)
@@ -624,7 +621,7 @@ impl<'a> Solver<'a> {
         let (a, b, c) = (mesh.tail(h), mesh.head(h), mesh.tail(p));
         let tri = Triangle::with_lengths(
             mesh.length(h),
-            self.apex[h as usize],
+            self.mesh.apex(h),
             mesh.length(p),
             mesh.length(n),
         );
@@ -635,7 +632,7 @@ impl<'a> Solver<'a> {
             let (da, db) = (self.verts[a as usize].dist, self.verts[b as usize].dist);
             let (behind, d_behind) = match mesh.twin(h) {
                 Some(t) if self.kind[Mesh::face_of(t) as usize] == FaceKind::Proper => {
-                    let q = self.apex[t as usize];
+                    let q = self.mesh.apex(t);
                     (
                         DVec2::new(tri.l - q.x, -q.y),
                         self.verts[mesh.opposite_vertex(t) as usize].dist,

@@ -64,4 +64,4 @@ pub use sources::{
 };
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
-pub use window::{EndedWindow, Triangle, Window, frame_coords};
+pub use window::{EndedWindow, Triangle, Window};

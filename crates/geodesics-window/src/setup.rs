@@ -4,7 +4,6 @@
 //! [`Mesh::apex`]).
 
 use geodesics_mesh::Mesh;
-use glam::DVec2;
 
 use crate::Tolerance;
 
@@ -26,10 +25,12 @@ pub enum FaceKind {
     Blocked,
 }
 
-/// How face `f` is crossed, given each half-edge's apex in its frame.
-pub fn face_kind(mesh: &Mesh, f: u32, apex: impl Fn(u32) -> DVec2) -> FaceKind {
+/// How face `f` is crossed.
+pub fn face_kind(mesh: &Mesh, f: u32) -> FaceKind {
     let hs = [3 * f, 3 * f + 1, 3 * f + 2];
-    let proper = hs.iter().all(|&h| mesh.length(h) > 0.0 && apex(h).y > 0.0);
+    let proper = hs
+        .iter()
+        .all(|&h| mesh.length(h) > 0.0 && mesh.apex(h).y > 0.0);
     let zeros = hs.iter().filter(|&&h| mesh.length(h) == 0.0).count();
     if proper {
         FaceKind::Proper
@@ -97,7 +98,7 @@ impl SolverSetup {
     pub fn new(mesh: &Mesh, tol: &Tolerance) -> SolverSetup {
         let nv = mesh.vertex_count();
         let kind: Vec<FaceKind> = (0..mesh.face_count() as u32)
-            .map(|f| face_kind(mesh, f, |h| mesh.apex(h)))
+            .map(|f| face_kind(mesh, f))
             .collect();
         // Pseudo-sources: a geodesic may pass through these vertices.
         let mut pseudo: Vec<bool> = (0..nv as u32)

@@ -5,7 +5,7 @@ use geodesics_mesh::Mesh;
 use glam::DVec3;
 use thiserror::Error;
 
-use crate::{FaceKind, Source, Tolerance, Window, frame_coords};
+use crate::{FaceKind, Source, Tolerance, Window};
 
 /// Why a solve's sources or distance limit were refused. Every variant
 /// names the offending source (its index in the `sources` slice) and value.
@@ -269,7 +269,7 @@ pub fn seeds(mesh: &Mesh, kind: &[FaceKind], source: &Source, index: u32) -> See
                 }
                 for h in 3 * f..3 * f + 3 {
                     let Some(t) = mesh.twin(h) else { continue };
-                    let c = frame_coords(mesh, h, point);
+                    let c = mesh.frame_coords(h, point);
                     let l = mesh.length(h);
                     if c.y > 0.0 {
                         let window = Window::across_edge(l, c, 0.0, index);

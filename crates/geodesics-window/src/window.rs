@@ -7,8 +7,7 @@
 //! with `cy > 0`, and the pseudo-source `p` lies below (`y ≤ 0`), on the side
 //! the window came from.
 
-use geodesics_mesh::Mesh;
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 
 /// An interval `[b0, b1]` of a half-edge lit by one pseudo-source.
 ///
@@ -74,21 +73,6 @@ impl Window {
     pub fn lights_face(&self) -> bool {
         self.p.y < 0.0
     }
-}
-
-/// Coordinates of `q` in the frame of half-edge `h` (tail at the origin,
-/// head on +x, the face of `h` above), for `q` in the closed face of `h`
-/// (so `y ≥ 0`): the frame every solver puts windows in. A zero-length
-/// half-edge maps everything to the origin.
-pub fn frame_coords(mesh: &Mesh, h: u32, q: DVec3) -> DVec2 {
-    let t = mesh.position(mesh.tail(h));
-    let e = mesh.position(mesh.head(h)) - t;
-    let l = mesh.length(h);
-    if l <= 0.0 {
-        return DVec2::ZERO;
-    }
-    let r = q - t;
-    DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
 }
 
 /// A window with the distances at its two ends kept beside it:
