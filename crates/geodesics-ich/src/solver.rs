@@ -192,8 +192,7 @@ impl<'a> Solver<'a> {
 
     #[inline]
     fn should_emit(&self, v: usize, d: f64) -> bool {
-        let e = self.emitted[v];
-        e == f64::INFINITY || self.tol.beats(d, e)
+        self.tol.must_emit(d, self.emitted[v])
     }
 
     // ------------------------------------------------------------ windows

@@ -118,20 +118,6 @@ fn prune_append(
     list.len()
 }
 
-/// Whether a pseudo-source now at `d`, which last emitted at `emitted`
-/// (infinite: never), must emit (again): only when its distance dropped by
-/// more than the tolerance.
-trait EmitPolicy {
-    fn should_emit(&self, d: f64, emitted: f64) -> bool;
-}
-
-impl EmitPolicy for Tolerance {
-    #[inline]
-    fn should_emit(&self, d: f64, emitted: f64) -> bool {
-        emitted == f64::INFINITY || self.beats(d, emitted)
-    }
-}
-
 /// Per-face bookkeeping, packed so that the sequential parts touch one
 /// cache line per face.
 #[derive(Clone, Copy, Debug)]
@@ -693,7 +679,7 @@ impl<'a> Solver<'a> {
         let x = &mut self.verts[vi];
         x.dist = d;
         x.src = s;
-        let requeue = !x.inside || (x.pseudo && self.tol.should_emit(d, x.emitted));
+        let requeue = !x.inside || x.must_emit(d, &self.tol);
         if d > self.p_nd {
             self.c_large += 1;
         } else if d < self.p_nd {
@@ -848,7 +834,7 @@ impl<'a> Solver<'a> {
             let vi = v as usize;
             let x = self.verts[vi];
             let first = !x.inside;
-            let emit = x.pseudo && self.tol.should_emit(d, x.emitted);
+            let emit = x.must_emit(d, &self.tol);
             if !first && !emit {
                 continue;
             }

@@ -241,7 +241,7 @@ impl<'a> Solver<'a> {
         x.src = s;
         // A vertex ahead of the wavefront is (re)queued; an inside one only
         // matters again if it is a pseudo-source that must re-emit.
-        if !x.inside || (x.pseudo && should_emit(&self.tol, x.emitted, d)) {
+        if !x.inside || x.must_emit(d, &self.tol) {
             self.heap.push(Reverse((d.to_bits(), v)));
         }
     }
@@ -276,7 +276,7 @@ impl<'a> Solver<'a> {
             // Read after the reset, which may have made v a pseudo-source.
             let x = self.verts[vi];
             let first = !x.inside;
-            let emit = x.pseudo && should_emit(&self.tol, x.emitted, d);
+            let emit = x.must_emit(d, &self.tol);
             if !first && !emit {
                 continue;
             }
@@ -745,14 +745,6 @@ impl<'a> Solver<'a> {
             (self.verts[v].dist, self.verts[v].src)
         })
     }
-}
-
-/// Whether a pseudo-source now at `d`, which last emitted at `emitted`
-/// (infinite: never), must emit (again): only when its distance dropped by
-/// more than the tolerance.
-#[inline]
-fn should_emit(tol: &Tolerance, emitted: f64, d: f64) -> bool {
-    emitted == f64::INFINITY || tol.beats(d, emitted)
 }
 
 /// Rules 2 and 3 with the order-preserving merge (OPVTP): `w` is inserted

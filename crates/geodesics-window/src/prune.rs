@@ -1037,7 +1037,7 @@ mod tests {
             (1.0, 1.5),           // a tie: no margin, no discard
             (1.0, 1.5 + 1e-9),    // beats by far more than the margin
             (f64::INFINITY, 2.0), // an unreached vertex beats nothing
-            (0.0, f64::INFINITY), // anything beats an infinite distance
+            (0.0, f64::INFINITY), // an infinite target's margin is infinite: never beaten
         ] {
             let with_root = t.beats(d_from + from.distance(DVec2::new(x, 0.0)), target);
             assert_eq!(

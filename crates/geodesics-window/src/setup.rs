@@ -76,6 +76,15 @@ pub struct SolverSetup {
     pub groups: Vec<Vec<u32>>,
 }
 
+impl VertexState {
+    /// Whether this vertex, now at `d`, emits pseudo-source windows: it is
+    /// a pseudo-source and [`Tolerance::must_emit`] says so.
+    #[inline]
+    pub fn must_emit(&self, d: f64, tol: &Tolerance) -> bool {
+        self.pseudo && tol.must_emit(d, self.emitted)
+    }
+}
+
 impl SolverSetup {
     /// Every vertex unreached, with its pseudo-source and pinch flags.
     pub fn vertex_states(&self) -> Vec<VertexState> {

@@ -64,6 +64,15 @@ impl Tolerance {
         a + self.margin(b) < b
     }
 
+    /// Whether a pseudo-source now at distance `d`, which last emitted its
+    /// windows at `emitted` (infinite: never), must emit (again): only when
+    /// its distance dropped by more than the margin, so rounding-level
+    /// improvements do not re-emit.
+    #[inline]
+    pub fn must_emit(&self, d: f64, emitted: f64) -> bool {
+        emitted == f64::INFINITY || self.beats(d, emitted)
+    }
+
     /// Whether an interior vertex with this angle sum is flat or a saddle
     /// (a geodesic may pass through it, so it must act as a pseudo-source).
     #[inline]
@@ -86,6 +95,18 @@ mod tests {
         assert!(!big.beats(1.0e6, 1.0e6 + 1e-9));
         assert!(big.beats(1.0e6, 1.0e6 + 1e-6));
         assert_eq!(Tolerance::for_scale(f64::NAN), Tolerance::for_scale(1.0));
+    }
+
+    #[test]
+    fn a_pseudo_source_emits_first_and_again_only_on_a_real_drop() {
+        let t = Tolerance::for_scale(1.0);
+        assert!(t.must_emit(2.0, f64::INFINITY));
+        assert!(!t.must_emit(2.0, 2.0));
+        assert!(
+            2.0 - 1e-15 < 2.0 && !t.must_emit(2.0 - 1e-15, 2.0),
+            "a rounding-level drop"
+        );
+        assert!(t.must_emit(1.9, 2.0));
     }
 
     #[test]
