@@ -105,6 +105,31 @@ fn slot_set(slots: &ListSlots, which: usize, idx: u32) {
     slots[which].store(idx, Ordering::Relaxed);
 }
 
+/// Takes list `which` of a half-edge out of its slot: its pool entry, or
+/// `None` if it has none.
+#[inline]
+fn take_slot(slots: &ListSlots, which: usize) -> Option<u32> {
+    let idx = slot_get(slots, which);
+    if idx == NO_LIST {
+        return None;
+    }
+    slot_set(slots, which, NO_LIST);
+    Some(idx)
+}
+
+/// The pool entry of list `which` of a half-edge, giving it `new()` if it
+/// has none.
+#[inline]
+fn claim_slot(slots: &ListSlots, which: usize, new: impl FnOnce() -> u32) -> u32 {
+    let idx = slot_get(slots, which);
+    if idx != NO_LIST {
+        return idx;
+    }
+    let idx = new();
+    slot_set(slots, which, idx);
+    idx
+}
+
 /// Merges `windows` into `list` with VTP's default merge (lists kept in
 /// edge order, [`merge_sorted`]). Returns the new length.
 #[inline]
@@ -302,12 +327,9 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         }
         let h = 3 * f + i as u32;
         let main = (sh.faces[f as usize].state[i] & 1) as usize;
-        let slots = &sh.slots[h as usize];
-        let idx = slot_get(slots, main);
-        if idx == NO_LIST {
+        let Some(idx) = take_slot(&sh.slots[h as usize], main) else {
             continue;
-        }
-        slot_set(slots, main, NO_LIST);
+        };
         let mut list = lock(&sh.pool[idx as usize]);
         out.consumed += list.len() as u64;
         match kind {
@@ -361,14 +383,11 @@ fn append_beyond(
     let to_side = st >> 1 == sh.phase;
     let which = (st & 1) as usize ^ usize::from(to_side);
     let slots = &sh.slots[t as usize];
-    let mut idx = slot_get(slots, which);
-    if idx == NO_LIST {
-        idx = s
-            .free
+    let idx = claim_slot(slots, which, || {
+        s.free
             .pop()
-            .expect("the free list holds three entries per job of the phase");
-        slot_set(slots, which, idx);
-    }
+            .expect("the free list holds three entries per job of the phase")
+    });
     let mut list = lock(&sh.pool[idx as usize]);
     let before = list.len();
     let after = prune_append(&mut list, windows, &mut s.merge, &sh.tol);
@@ -699,11 +718,7 @@ impl<'a> Solver<'a> {
     fn append_now(&mut self, h: u32, windows: &mut [EndedWindow]) {
         let main = (self.faces[(h / 3) as usize].state[(h % 3) as usize] & 1) as usize;
         let slots = &self.slots[h as usize];
-        let mut idx = slot_get(slots, main);
-        if idx == NO_LIST {
-            idx = take_entry(&mut self.free, &mut self.pool);
-            slot_set(slots, main, idx);
-        }
+        let idx = claim_slot(slots, main, || take_entry(&mut self.free, &mut self.pool));
         let list = self.pool[idx as usize]
             .get_mut()
             .unwrap_or_else(PoisonError::into_inner);
@@ -893,13 +908,10 @@ impl<'a> Solver<'a> {
                         continue;
                     }
                     for t in std::iter::once(e).chain(mesh.twin(e)) {
-                        let slots = &self.slots[t as usize];
                         for which in 0..2 {
-                            let idx = slot_get(slots, which);
-                            if idx == NO_LIST {
+                            let Some(idx) = take_slot(&self.slots[t as usize], which) else {
                                 continue;
-                            }
-                            slot_set(slots, which, NO_LIST);
+                            };
                             let list = self.pool[idx as usize]
                                 .get_mut()
                                 .unwrap_or_else(PoisonError::into_inner);
