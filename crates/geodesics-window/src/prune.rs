@@ -157,20 +157,47 @@ pub fn overlap_dominance(w0: &Window, w1: &Window, tol: &Tolerance) -> Dominance
     overlap_dominance_ended(&EndedWindow::new(*w0), &EndedWindow::new(*w1), tol)
 }
 
-/// [`overlap_dominance`] on windows whose end distances are cached (it
-/// recomputes the four overlap-end distances rather than branching on
-/// which cache holds which: see `compare_on_overlap`).
+/// [`overlap_dominance`] on windows whose end distances are cached.
 #[inline]
 pub fn overlap_dominance_ended(e0: &EndedWindow, e1: &EndedWindow, tol: &Tolerance) -> Dominance {
     compare_on_overlap(e0, e1, tol).0
 }
 
-/// Distances of two windows at the ends `c0 < c1` of their overlap:
-/// `[w0(c0), w1(c0), w0(c1), w1(c1)]`.
-type OverlapEnds = [f64; 4];
+/// What [`compare_on_overlap`] found at the ends `c0 < c1` of the overlap
+/// of two windows (unset when they are disjoint).
+#[derive(Clone, Copy, Debug)]
+struct OverlapEnds {
+    c0: f64,
+    c1: f64,
+    /// `[w0(c0), w1(c0), w0(c1), w1(c1)]`.
+    d: [f64; 4],
+    /// Whether `w0` beats `w1` at `c0`, and at `c1`.
+    first_at: [bool; 2],
+    /// Whether `w1` beats `w0` at `c0`, and at `c1`.
+    second_at: [bool; 2],
+}
 
-/// [`overlap_dominance_ended`], also giving the distances at the overlap's
-/// ends (unset when disjoint).
+/// The distance at the overlap end `c` of two windows: the cached end
+/// distance of the one that ends (or starts) there, `σ + |p − (c, 0)|` of
+/// the other. Returns `(w0(c), w1(c))`. Both branches are selects, not
+/// jumps: which window ends first is a coin toss.
+#[inline]
+fn distances_at_end(w0: &Window, w1: &Window, c: f64, end_of_0: bool, cached: f64) -> (f64, f64) {
+    let (p, sigma) = if end_of_0 {
+        (w1.p, w1.sigma)
+    } else {
+        (w0.p, w0.sigma)
+    };
+    let other = sigma + p.distance(DVec2::new(c, 0.0));
+    if end_of_0 {
+        (cached, other)
+    } else {
+        (other, cached)
+    }
+}
+
+/// [`overlap_dominance_ended`], also giving what was found at the
+/// overlap's ends.
 #[inline]
 fn compare_on_overlap(
     e0: &EndedWindow,
@@ -183,17 +210,42 @@ fn compare_on_overlap(
     if !(c1 - c0 > tie_sliver(w0, w1)) {
         // Disjoint, or only the sliver two trimmed windows keep around
         // their tie point (comparing them again would settle nothing).
-        return (Dominance::Disjoint, [f64::NAN; 4]);
+        let unset = OverlapEnds {
+            c0,
+            c1,
+            d: [f64::NAN; 4],
+            first_at: [false; 2],
+            second_at: [false; 2],
+        };
+        return (Dominance::Disjoint, unset);
     }
     // Each overlap end is an end of one window, whose cached distance is
-    // the same computation bit for bit: computing all four costs two
-    // independent square roots more than reading two caches, and no
-    // unpredictable branch.
-    let (a0, a1) = (w0.distance_at(c0), w1.distance_at(c0));
-    let (b0, b1) = (w0.distance_at(c1), w1.distance_at(c1));
-    let ends = [a0, a1, b0, b1];
-    let mut first = tol.beats(a0, a1) & tol.beats(b0, b1);
-    let mut second = tol.beats(a1, a0) & tol.beats(b1, b0);
+    // the same computation bit for bit as evaluating it there.
+    let (a0, a1) = distances_at_end(
+        w0,
+        w1,
+        c0,
+        w0.b0 >= w1.b0,
+        if w0.b0 >= w1.b0 { e0.d0 } else { e1.d0 },
+    );
+    let (b0, b1) = distances_at_end(
+        w0,
+        w1,
+        c1,
+        w0.b1 <= w1.b1,
+        if w0.b1 <= w1.b1 { e0.d1 } else { e1.d1 },
+    );
+    let first_at = [tol.beats(a0, a1), tol.beats(b0, b1)];
+    let second_at = [tol.beats(a1, a0), tol.beats(b1, b0)];
+    let ends = OverlapEnds {
+        c0,
+        c1,
+        d: [a0, a1, b0, b1],
+        first_at,
+        second_at,
+    };
+    let mut first = first_at[0] & first_at[1];
+    let mut second = second_at[0] & second_at[1];
     if !first && !second {
         return (Dominance::Neither, ends);
     }
@@ -383,16 +435,20 @@ fn trim_at_tie(
     tol: &Tolerance,
     split: bool,
 ) -> Option<(bool, EndedWindow)> {
-    let [a0, a1, b0, b1] = ends;
+    let OverlapEnds {
+        c0,
+        c1,
+        d: [a0, a1, b0, b1],
+        first_at,
+        second_at,
+    } = ends;
     // They cross once only if the shorter one changes between the ends,
     // each end decided by more than the margin.
-    let left_is_0 = tol.beats(a0, a1) & tol.beats(b1, b0);
-    let left_is_1 = tol.beats(a1, a0) & tol.beats(b0, b1);
+    let left_is_0 = first_at[0] & second_at[1];
+    let left_is_1 = second_at[0] & first_at[1];
     if !left_is_0 && !left_is_1 {
         return None;
     }
-    let c0 = w0.window.b0.max(w1.window.b0);
-    let c1 = w0.window.b1.min(w1.window.b1);
     let x = single_tie_point(&w0.window, &w1.window, c0, c1)?;
     // Step far enough from the tie that the winner is ahead by the margin
     // at the cut: the gap between the two distances grows about as
@@ -408,26 +464,33 @@ fn trim_at_tie(
     let mut piece = None;
     // The right winner loses [c0, x): trim its start if it starts at c0,
     // else (splitting) cut that part out of its middle.
+    // The loser's distances at the overlap ends, known from the
+    // comparison.
+    let (loser_left_at_c0, loser_right_at_c1) = if left_is_0 { (a1, b0) } else { (a0, b1) };
     let cut = x - gap;
-    if cut > c0 && beats_from(&winner_left.window, &winner_right.window, c0, cut, tol) {
+    if cut > c0
+        && let Some(d) = beats_from(&winner_left.window, &winner_right.window, c0, cut, tol)
+    {
         if winner_right.window.b0 == c0 {
-            winner_right.set_start(cut);
+            start_at(winner_right, cut, d);
         } else if split {
             let mut right = *winner_right;
-            right.set_start(cut);
-            winner_right.set_end(c0);
+            start_at(&mut right, cut, d);
+            end_at(winner_right, c0, loser_left_at_c0);
             piece = Some((!left_is_0, right));
         }
     }
     // The left winner loses (x, c1]: trim its end if it ends at c1.
     let cut = x + gap;
-    if cut < c1 && beats_from(&winner_right.window, &winner_left.window, c1, cut, tol) {
+    if cut < c1
+        && let Some(d) = beats_from(&winner_right.window, &winner_left.window, c1, cut, tol)
+    {
         if winner_left.window.b1 == c1 {
-            winner_left.set_end(cut);
+            end_at(winner_left, cut, d);
         } else if split && piece.is_none() {
             let mut right = *winner_left;
-            right.set_start(c1);
-            winner_left.set_end(cut);
+            start_at(&mut right, c1, loser_right_at_c1);
+            end_at(winner_left, cut, d);
             piece = Some((left_is_0, right));
         }
     }
@@ -506,11 +569,18 @@ fn single_tie_point(w0: &Window, w1: &Window, c0: f64, c1: f64) -> Option<f64> {
 
 /// Whether `winner`, known to be shorter than `loser` by the margin at
 /// `known`, is so on the whole segment from `known` to `cut`: the other end
-/// and the interior extremum decide, as in [`overlap_dominance`].
-fn beats_from(winner: &Window, loser: &Window, known: f64, cut: f64, tol: &Tolerance) -> bool {
-    let wins = |x: f64| tol.beats(winner.distance_at(x), loser.distance_at(x));
-    if !wins(cut) {
-        return false;
+/// and the interior extremum decide, as in [`overlap_dominance`]. If so,
+/// returns the loser's distance at `cut` (its new end distance there).
+fn beats_from(
+    winner: &Window,
+    loser: &Window,
+    known: f64,
+    cut: f64,
+    tol: &Tolerance,
+) -> Option<f64> {
+    let at_cut = loser.distance_at(cut);
+    if !tol.beats(winner.distance_at(cut), at_cut) {
+        return None;
     }
     let (lo, hi) = if known < cut {
         (known, cut)
@@ -520,11 +590,27 @@ fn beats_from(winner: &Window, loser: &Window, known: f64, cut: f64, tol: &Toler
     let (p, q) = (winner.p, loser.p);
     if p.y != q.y {
         let xs = p.x + (q.x - p.x) * (-p.y) / (q.y - p.y);
-        if xs > lo && xs < hi {
-            return wins(xs);
+        if xs > lo && xs < hi && !tol.beats(winner.distance_at(xs), loser.distance_at(xs)) {
+            return None;
         }
     }
-    true
+    Some(at_cut)
+}
+
+/// Moves the start of `w` to `b0`, where its distance is `d0` (computed as
+/// [`Window::distance_at`] does, so the cache stays exact).
+#[inline]
+fn start_at(w: &mut EndedWindow, b0: f64, d0: f64) {
+    w.window.b0 = b0;
+    w.d0 = d0;
+}
+
+/// Moves the end of `w` to `b1`, where its distance is `d1` (as
+/// [`start_at`]).
+#[inline]
+fn end_at(w: &mut EndedWindow, b1: f64, d1: f64) {
+    w.window.b1 = b1;
+    w.d1 = d1;
 }
 
 #[inline]
