@@ -267,8 +267,9 @@ impl JobOut {
 /// Per-worker scratch buffers (never part of a result).
 #[derive(Default)]
 struct Scratch {
-    left: Vec<EndedWindow>,
-    right: Vec<EndedWindow>,
+    /// Per edge `3f + e` of the job's face: the windows bound for the list
+    /// beyond it.
+    beyond: [Vec<EndedWindow>; 3],
     info: Vec<(f64, f64, f64)>,
     /// Pool entries this worker gives to the lists it starts.
     free: Vec<u32>,
@@ -314,11 +315,8 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
             let c = sh.mesh.apex(o);
             let w = Window::across_edge(l, c, sigma, source);
             out.emitted += 1;
-            append_beyond(sh, f, (j + 1) % 3, &mut [EndedWindow::new(w)], s, out);
+            s.beyond[(j + 1) % 3].push(EndedWindow::new(w));
         }
-    }
-    if job.mask == 0 {
-        return;
     }
     let kind = sh.kind[f as usize];
     for i in 0..3usize {
@@ -333,15 +331,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         let mut list = lock(&sh.pool[idx as usize]);
         out.consumed += list.len() as u64;
         match kind {
-            FaceKind::Proper => {
-                cross(sh, h, i, &mut list, &mut d, s, out);
-                let (mut left, mut right) =
-                    (std::mem::take(&mut s.left), std::mem::take(&mut s.right));
-                append_beyond(sh, f, (i + 2) % 3, &mut left, s, out);
-                append_beyond(sh, f, (i + 1) % 3, &mut right, s, out);
-                s.left = left;
-                s.right = right;
-            }
+            FaceKind::Proper => cross(sh, h, i, &mut list, &mut d, s, out),
             FaceKind::Zipper => {
                 if mesh.length(h) > 0.0 {
                     let n = Mesh::next(h);
@@ -350,7 +340,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
                     } else {
                         Mesh::prev(h)
                     };
-                    append_beyond(sh, f, (other - 3 * f) as usize, &mut list, s, out);
+                    s.beyond[(other - 3 * f) as usize].extend_from_slice(&list);
                 }
             }
             FaceKind::Blocked => {}
@@ -359,6 +349,17 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         list.clear();
         drop(list);
         s.free.push(idx);
+    }
+    // Everything bound for one edge (children of up to two lists and a
+    // pseudo-source window) goes in with one merge: one lock and one pass
+    // over the list beyond instead of up to three.
+    for e in 0..3 {
+        if !s.beyond[e].is_empty() {
+            let mut windows = std::mem::take(&mut s.beyond[e]);
+            append_beyond(sh, f, e, &mut windows, s, out);
+            windows.clear();
+            s.beyond[e] = windows;
+        }
     }
 }
 
@@ -409,8 +410,8 @@ fn append_beyond(
 /// as VTP's `cross`: the vertex check against the distances of the edge's
 /// ends and of the vertex behind it, Rule 1 (one angle two sides) against
 /// the list's best path to the apex, one step per window, the vertex check
-/// on each child. Children go to `s.left` (beyond `CA`) and `s.right`
-/// (beyond `BC`); the list's best path to the apex, where it beats the
+/// on each child. Children go to `s.beyond`: those beyond `CA` and those
+/// beyond `BC`; the list's best path to the apex, where it beats the
 /// frozen distance, to `out`'s updates (the write is delayed to the
 /// merge).
 fn cross(
@@ -471,8 +472,11 @@ fn cross(
     let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
     let a_right = tri.to_right_frame(DVec2::ZERO);
     let (da, db, dc) = (d[ia], d[ib], d[ic]);
-    s.left.clear();
-    s.right.clear();
+    // Edge C→A is edge `ic` of the face, B→C edge `ib`.
+    let [left, right] = s
+        .beyond
+        .get_disjoint_mut([ic, ib])
+        .expect("ib and ic are distinct edges of the face");
     let mut props = 0u64;
     for (j, e) in list.iter().enumerate() {
         let w = &e.window;
@@ -486,7 +490,7 @@ fn cross(
             if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
                 let cw = EndedWindow::new(cw);
                 if !vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &tol) {
-                    s.left.push(cw);
+                    left.push(cw);
                 }
             }
         }
@@ -495,7 +499,7 @@ fn cross(
             if let Some(cw) = w.child_right(&tri, x0, x1, from) {
                 let cw = EndedWindow::new(cw);
                 if !vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &tol) {
-                    s.right.push(cw);
+                    right.push(cw);
                 }
             }
         }
