@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use crate::summary::{AnisotropyStats, MeshSummary};
 use crate::union_find::UnionFind;
-use crate::{IndexedTriangles, Mesh, MeshError, NONE};
+use crate::{HalfEdge, IndexedTriangles, Mesh, MeshError, NONE};
 
 /// How to build a [`Mesh`].
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -105,17 +105,23 @@ impl Mesh {
         let (pinch_origin, nonmanifold_vertices) =
             split_pinch_vertices(&mut faces, &twin, &mut positions);
 
+        let half = twin
+            .iter()
+            .enumerate()
+            .map(|(h, &twin)| HalfEdge {
+                twin,
+                tail: faces[h / 3][h % 3],
+                ..HalfEdge::default()
+            })
+            .collect();
         let mut mesh = Mesh {
-            length: Vec::new(),
-            apex: Vec::new(),
+            half,
             corner_angle: Vec::new(),
             angle_sum: Vec::new(),
             vertex_half_edge: Vec::new(),
             boundary: Vec::new(),
             component: Vec::new(),
             positions,
-            faces,
-            twin,
             reoriented: flipped,
             pinch_ring: pinch_rings(&pinch_origin),
             pinch_origin,
@@ -135,13 +141,12 @@ impl Mesh {
     }
 
     fn compute_geometry(&mut self) {
-        let n = self.faces.len() * 3;
-        self.length = Vec::with_capacity(n);
+        let n = self.half.len();
         self.corner_angle = Vec::with_capacity(n);
-        for f in &self.faces {
-            let p = f.map(|v| self.positions[v as usize]);
+        for f in 0..n / 3 {
+            let p = self.face(f as u32).map(|v| self.positions[v as usize]);
             for i in 0..3 {
-                self.length.push(p[i].distance(p[(i + 1) % 3]));
+                self.half[3 * f + i].length = p[i].distance(p[(i + 1) % 3]);
             }
             for i in 0..3 {
                 let a = p[(i + 1) % 3] - p[i];
@@ -149,13 +154,13 @@ impl Mesh {
                 self.corner_angle.push(angle_between(a, b));
             }
         }
-        let apex = (0..n as u32)
-            .map(|h| self.frame_coords(h, self.position(self.opposite_vertex(h))))
-            .collect();
-        self.apex = apex;
+        for h in 0..n as u32 {
+            self.half[h as usize].apex =
+                self.frame_coords(h, self.position(self.opposite_vertex(h)));
+        }
         self.angle_sum = vec![0.0; self.positions.len()];
         for (h, &angle) in self.corner_angle.iter().enumerate() {
-            let v = self.faces[h / 3][h % 3];
+            let v = self.half[h].tail;
             self.angle_sum[v as usize] += angle;
         }
     }
@@ -164,9 +169,9 @@ impl Mesh {
         let nv = self.positions.len();
         self.vertex_half_edge = vec![NONE; nv];
         self.boundary = vec![false; nv];
-        for h in 0..self.twin.len() as u32 {
+        for h in 0..self.half.len() as u32 {
             let v = self.tail(h) as usize;
-            if self.twin[h as usize] == NONE {
+            if self.half[h as usize].twin == NONE {
                 // A boundary edge leaving v: the clockwise-most outgoing edge
                 // of v's (single, after pinch splitting) fan.
                 self.boundary[v] = true;
@@ -176,8 +181,8 @@ impl Mesh {
             }
         }
         self.component = vec![NONE; nv];
-        for (f, &c) in self.faces.iter().zip(face_component) {
-            for &v in f {
+        for (f, &c) in face_component.iter().enumerate() {
+            for v in self.face(f as u32) {
                 self.component[v as usize] = c;
             }
         }
@@ -195,8 +200,8 @@ impl Mesh {
         // Components of referenced input vertices. Edge-connected pieces can
         // share a vertex only at a pinch vertex, which joins them.
         let mut referenced = vec![false; nin];
-        for f in &self.faces {
-            for &v in f {
+        for f in self.faces() {
+            for v in f {
                 referenced[self.pinch_origin[v as usize] as usize] = true;
             }
         }
@@ -223,8 +228,8 @@ impl Mesh {
         // Boundary loops: components of the graph of boundary edges.
         let mut buf = UnionFind::new(nin);
         let mut on_boundary = vec![false; nin];
-        for h in 0..self.twin.len() as u32 {
-            if self.twin[h as usize] == NONE {
+        for h in 0..self.half.len() as u32 {
+            if self.half[h as usize].twin == NONE {
                 let a = self.pinch_origin(self.tail(h));
                 let b = self.pinch_origin(self.head(h));
                 on_boundary[a as usize] = true;
@@ -237,7 +242,7 @@ impl Mesh {
             .count();
         let boundary_vertices = on_boundary.iter().filter(|&&b| b).count();
 
-        let euler_characteristic = used as i64 - edges as i64 + self.faces.len() as i64;
+        let euler_characteristic = used as i64 - edges as i64 + self.face_count() as i64;
         let twice_genus = 2 * components as i64 - euler_characteristic - boundary_loops as i64;
         let genus = (nonmanifold_vertices == 0 && twice_genus >= 0 && twice_genus % 2 == 0)
             .then_some(twice_genus / 2);
@@ -247,15 +252,15 @@ impl Mesh {
             .count();
 
         let mut zero_area_faces = 0;
-        let mut quality = Vec::with_capacity(self.faces.len());
-        for (f, corners) in self.faces.iter().enumerate() {
+        let mut quality = Vec::with_capacity(self.face_count());
+        for (f, corners) in self.faces().enumerate() {
             let p = corners.map(|v| self.positions[v as usize]);
             let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
             if area == 0.0 {
                 zero_area_faces += 1;
                 continue;
             }
-            let l = [0, 1, 2].map(|i| self.length[3 * f + i]);
+            let l = [0, 1, 2].map(|i| self.half[3 * f + i].length);
             let half_perimeter = 0.5 * (l[0] + l[1] + l[2]);
             let longest = l[0].max(l[1]).max(l[2]);
             quality.push(half_perimeter * longest / (2.0 * 3f64.sqrt() * area));
@@ -273,7 +278,7 @@ impl Mesh {
 
         MeshSummary {
             vertices: nin,
-            faces: self.faces.len(),
+            faces: self.face_count(),
             edges,
             components,
             boundary_loops,
