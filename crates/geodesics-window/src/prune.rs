@@ -177,6 +177,15 @@ struct OverlapEnds {
     second_at: [bool; 2],
 }
 
+impl OverlapEnds {
+    /// Whether the shorter window changes between the overlap's ends, each
+    /// end decided by more than the margin (then they cross once inside).
+    #[inline]
+    fn cross(&self) -> bool {
+        (self.first_at[0] & self.second_at[1]) | (self.second_at[0] & self.first_at[1])
+    }
+}
+
 /// The distance at the overlap end `c` of two windows: the cached end
 /// distance of the one that ends (or starts) there, `σ + |p − (c, 0)|` of
 /// the other. Returns `(w0(c), w1(c))`. Both branches are selects, not
@@ -361,10 +370,15 @@ fn prune_pair(
             trim_loser(&w1.window, w0, PairOutcome::RemoveFirst)
         }
         Dominance::Neither => {
-            match trim_at_tie(w0, w1, ends, tol, split) {
-                Some((true, right)) => return SplitOutcome::FirstSplit(right),
-                Some((false, right)) => return SplitOutcome::SecondSplit(right),
-                None => {}
+            // Decided here, not in the call: most such pairs (a window
+            // grazing a saddle vertex next to the vertex's own window) tie
+            // at one end and cannot cross.
+            if ends.cross() {
+                match trim_at_tie(w0, w1, ends, tol, split) {
+                    Some((true, right)) => return SplitOutcome::FirstSplit(right),
+                    Some((false, right)) => return SplitOutcome::SecondSplit(right),
+                    None => {}
+                }
             }
             PairOutcome::KeepBoth
         }
@@ -442,13 +456,10 @@ fn trim_at_tie(
         first_at,
         second_at,
     } = ends;
-    // They cross once only if the shorter one changes between the ends,
-    // each end decided by more than the margin.
-    let left_is_0 = first_at[0] & second_at[1];
-    let left_is_1 = second_at[0] & first_at[1];
-    if !left_is_0 && !left_is_1 {
+    if !ends.cross() {
         return None;
     }
+    let left_is_0 = first_at[0] & second_at[1];
     let x = single_tie_point(&w0.window, &w1.window, c0, c1)?;
     // Step far enough from the tie that the winner is ahead by the margin
     // at the cut: the gap between the two distances grows about as
