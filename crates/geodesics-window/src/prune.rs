@@ -778,6 +778,9 @@ fn sort_by_start(windows: &mut [EndedWindow]) {
         return;
     }
     for i in 1..windows.len() {
+        if windows[i - 1].window.b0 <= windows[i].window.b0 {
+            continue; // in place already: the usual case, no copy
+        }
         let w = windows[i];
         let mut k = i;
         while k > 0 && windows[k - 1].window.b0 > w.window.b0 {
