@@ -473,11 +473,11 @@ fn trim_at_tie(
     let gap = (TIE_GAP * (c1 - c0)).max(TIE_STEP_MARGINS * margin / spread);
     let (winner_left, winner_right) = if left_is_0 { (w0, w1) } else { (w1, w0) };
     let mut piece = None;
+    // The losers' distances at the overlap ends, known from the
+    // comparison: the right winner's at c0, the left winner's at c1.
+    let (loser_left_at_c0, loser_right_at_c1) = if left_is_0 { (a1, b0) } else { (a0, b1) };
     // The right winner loses [c0, x): trim its start if it starts at c0,
     // else (splitting) cut that part out of its middle.
-    // The loser's distances at the overlap ends, known from the
-    // comparison.
-    let (loser_left_at_c0, loser_right_at_c1) = if left_is_0 { (a1, b0) } else { (a0, b1) };
     let cut = x - gap;
     if cut > c0
         && let Some(d) = beats_from(&winner_left.window, &winner_right.window, c0, cut, tol)
