@@ -707,8 +707,15 @@ pub fn merge_sorted(
     buffers: &mut MergeBuffers,
     tol: &Tolerance,
 ) {
-    if incoming.is_empty() {
-        return;
+    match incoming {
+        [] => return,
+        // One window into an empty list (a pseudo-source's window, a list
+        // with a single child): nothing to meet.
+        [w] if list.is_empty() => {
+            list.push(*w);
+            return;
+        }
+        _ => {}
     }
     sort_by_start(incoming);
     let MergeBuffers {
