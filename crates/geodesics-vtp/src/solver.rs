@@ -183,7 +183,7 @@ impl<'a> Solver<'a> {
             self.force_pseudo(v);
         }
         for &(v, d) in &seeds.distances {
-            self.relax(v, d, i, Provenance::Source(i));
+            self.relax(v, d, i, || Provenance::Source(i));
         }
         for &(t, w) in &seeds.windows {
             self.stats.windows_created += 1;
@@ -204,12 +204,18 @@ impl<'a> Solver<'a> {
 
     // ------------------------------------------------------------ distances
 
-    /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter.
-    #[inline]
-    fn relax(&mut self, v: u32, d: f64, s: u32, how: Provenance) {
-        if !(d < self.verts[v as usize].dist) {
-            return;
+    /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter;
+    /// `how` is asked only then. The test is inlined at every call site:
+    /// most candidates lose.
+    #[inline(always)]
+    fn relax(&mut self, v: u32, d: f64, s: u32, how: impl FnOnce() -> Provenance) {
+        if d < self.verts[v as usize].dist {
+            self.lower(v, d, s, how());
         }
+    }
+
+    /// [`Solver::relax`] once `d` is known to be shorter.
+    fn lower(&mut self, v: u32, d: f64, s: u32, how: Provenance) {
         self.set_dist(v, d, s);
         if !self.prov.is_empty() {
             self.prov[v as usize] = how;
@@ -422,24 +428,14 @@ impl<'a> Solver<'a> {
             let p = Mesh::prev(h);
             let b = mesh.tail(p);
             let (la, lb) = (mesh.length(h), mesh.length(p));
-            self.relax(
-                a,
-                d + la,
-                s,
-                Provenance::Vertex {
-                    from: v,
-                    length: la,
-                },
-            );
-            self.relax(
-                b,
-                d + lb,
-                s,
-                Provenance::Vertex {
-                    from: v,
-                    length: lb,
-                },
-            );
+            self.relax(a, d + la, s, || Provenance::Vertex {
+                from: v,
+                length: la,
+            });
+            self.relax(b, d + lb, s, || Provenance::Vertex {
+                from: v,
+                length: lb,
+            });
             let f = Mesh::face_of(h);
             if self.kind[f as usize] != FaceKind::Proper {
                 continue;
@@ -658,14 +654,14 @@ impl<'a> Solver<'a> {
             }
         }
         if best.is_finite() {
-            let w = &list[s].window;
-            let how = Provenance::Window {
+            let w = list[s].window;
+            let bend = info[s].1;
+            self.relax(c, best, w.source, || Provenance::Window {
                 half_edge: h,
                 pseudo_source: w.p,
                 sigma: w.sigma,
-                bend: info[s].1,
-            };
-            self.relax(c, best, w.source, how);
+                bend,
+            });
         }
         let sp_s = info.get(s).map_or(0.0, |x| x.1);
         let prime = self.entered[f as usize] == self.pops;
