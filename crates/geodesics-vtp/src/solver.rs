@@ -73,6 +73,9 @@ struct Solver<'a> {
     resets: u32,
     /// Mean edge length h.
     mean_edge: f64,
+    /// The default merge (adjacent pairs, lists in edge order), decided
+    /// once: the options sit behind a pointer and every append asks.
+    sorted_merge: bool,
     /// FTP: faces waiting to be traversed, by their best apex distance.
     face_heap: BinaryHeap<Reverse<(u64, u32)>>,
     face_key: Vec<f64>,
@@ -166,6 +169,8 @@ impl<'a> Solver<'a> {
             },
             resets: 0,
             mean_edge,
+            sorted_merge: options.pruning.pairs == PairRule::Adjacent
+                && options.merge == Merge::Sorted,
             face_heap: BinaryHeap::new(),
             face_key: if options.schedule == Schedule::FaceSorted {
                 vec![f64::INFINITY; nf]
@@ -487,6 +492,7 @@ impl<'a> Solver<'a> {
         let before = list.len();
         let tol = &self.tol;
         match (self.options.pruning.pairs, self.options.merge) {
+            _ if self.sorted_merge => merge_sorted(list, windows, &mut self.buffers, tol),
             (PairRule::Off, Merge::OrderFree) => list.extend_from_slice(windows),
             (PairRule::Off, Merge::OrderPreserving) => {
                 for &w in windows.iter() {
