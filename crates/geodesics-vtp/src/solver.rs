@@ -510,7 +510,7 @@ impl<'a> Solver<'a> {
                 list.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
             }
             (PairRule::Adjacent, Merge::Sorted) => {
-                merge_sorted(list, windows, &mut self.buffers, tol);
+                unreachable!("sorted_merge is set exactly for this rule, matched first")
             }
             (PairRule::Adjacent, Merge::OrderPreserving) => {
                 for &w in windows.iter() {
