@@ -186,12 +186,18 @@ impl OverlapEnds {
     }
 }
 
-/// The distance at the overlap end `c` of two windows: the cached end
-/// distance of the one that ends (or starts) there, `σ + |p − (c, 0)|` of
-/// the other. Returns `(w0(c), w1(c))`. Both branches are selects, not
-/// jumps: which window ends first is a coin toss.
+/// The distances `(w0(c), w1(c))` at the overlap end `c` of two windows:
+/// the cached end distance (`cached0` of `w0`, `cached1` of `w1`) of the
+/// one that ends (or starts) there, `end_of_0` saying which, and
+/// `σ + |p − (c, 0)|` of the other. Both branches are selects, not jumps:
+/// which window ends first is a coin toss.
 #[inline]
-fn distances_at_end(w0: &Window, w1: &Window, c: f64, end_of_0: bool, cached: f64) -> (f64, f64) {
+fn distances_at_end(
+    (w0, w1): (&Window, &Window),
+    c: f64,
+    end_of_0: bool,
+    (cached0, cached1): (f64, f64),
+) -> (f64, f64) {
     let (p, sigma) = if end_of_0 {
         (w1.p, w1.sigma)
     } else {
@@ -199,9 +205,9 @@ fn distances_at_end(w0: &Window, w1: &Window, c: f64, end_of_0: bool, cached: f6
     };
     let other = sigma + p.distance(DVec2::new(c, 0.0));
     if end_of_0 {
-        (cached, other)
+        (cached0, other)
     } else {
-        (other, cached)
+        (other, cached1)
     }
 }
 
@@ -230,20 +236,8 @@ fn compare_on_overlap(
     }
     // Each overlap end is an end of one window, whose cached distance is
     // the same computation bit for bit as evaluating it there.
-    let (a0, a1) = distances_at_end(
-        w0,
-        w1,
-        c0,
-        w0.b0 >= w1.b0,
-        if w0.b0 >= w1.b0 { e0.d0 } else { e1.d0 },
-    );
-    let (b0, b1) = distances_at_end(
-        w0,
-        w1,
-        c1,
-        w0.b1 <= w1.b1,
-        if w0.b1 <= w1.b1 { e0.d1 } else { e1.d1 },
-    );
+    let (a0, a1) = distances_at_end((w0, w1), c0, w0.b0 >= w1.b0, (e0.d0, e1.d0));
+    let (b0, b1) = distances_at_end((w0, w1), c1, w0.b1 <= w1.b1, (e0.d1, e1.d1));
     let first_at = [tol.beats(a0, a1), tol.beats(b0, b1)];
     let second_at = [tol.beats(a1, a0), tol.beats(b1, b0)];
     let ends = OverlapEnds {
@@ -483,11 +477,11 @@ fn trim_at_tie(
         && let Some(d) = beats_from(&winner_left.window, &winner_right.window, c0, cut, tol)
     {
         if winner_right.window.b0 == c0 {
-            start_at(winner_right, cut, d);
+            winner_right.set_start_known(cut, d);
         } else if split {
             let mut right = *winner_right;
-            start_at(&mut right, cut, d);
-            end_at(winner_right, c0, loser_left_at_c0);
+            right.set_start_known(cut, d);
+            winner_right.set_end_known(c0, loser_left_at_c0);
             piece = Some((!left_is_0, right));
         }
     }
@@ -497,11 +491,11 @@ fn trim_at_tie(
         && let Some(d) = beats_from(&winner_right.window, &winner_left.window, c1, cut, tol)
     {
         if winner_left.window.b1 == c1 {
-            end_at(winner_left, cut, d);
+            winner_left.set_end_known(cut, d);
         } else if split && piece.is_none() {
             let mut right = *winner_left;
-            start_at(&mut right, c1, loser_right_at_c1);
-            end_at(winner_left, cut, d);
+            right.set_start_known(c1, loser_right_at_c1);
+            winner_left.set_end_known(cut, d);
             piece = Some((left_is_0, right));
         }
     }
@@ -606,22 +600,6 @@ fn beats_from(
         }
     }
     Some(at_cut)
-}
-
-/// Moves the start of `w` to `b0`, where its distance is `d0` (computed as
-/// [`Window::distance_at`] does, so the cache stays exact).
-#[inline]
-fn start_at(w: &mut EndedWindow, b0: f64, d0: f64) {
-    w.window.b0 = b0;
-    w.d0 = d0;
-}
-
-/// Moves the end of `w` to `b1`, where its distance is `d1` (as
-/// [`start_at`]).
-#[inline]
-fn end_at(w: &mut EndedWindow, b1: f64, d1: f64) {
-    w.window.b1 = b1;
-    w.d1 = d1;
 }
 
 #[inline]
@@ -1193,6 +1171,21 @@ mod tests {
         // Merging nothing changes nothing.
         merge_sorted(&mut list, &mut [], &mut buffers, &t);
         assert_eq!(list.len(), 3);
+    }
+
+    #[test]
+    fn a_single_window_joins_an_empty_list_whole_and_a_full_one_checked() {
+        let t = tol();
+        let mut buffers = MergeBuffers::default();
+        let w = EndedWindow::new(win(0.2, 0.9, (0.5, -1.0), 4.0));
+        let mut list = Vec::new();
+        merge_sorted(&mut list, &mut [w], &mut buffers, &t);
+        assert_eq!(list, vec![w]);
+        // Into a list holding a window that beats it everywhere, the same
+        // window is checked and dropped.
+        let mut list = vec![EndedWindow::new(win(0.0, 1.0, (0.5, -1.0), 0.0))];
+        merge_sorted(&mut list, &mut [w], &mut buffers, &t);
+        assert_eq!(starts(&list), vec![(0.0, 1.0)]);
     }
 
     #[test]

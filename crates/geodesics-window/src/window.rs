@@ -138,6 +138,25 @@ impl EndedWindow {
         self.window.b1 = b1;
         self.d1 = self.window.distance_at(b1);
     }
+
+    /// [`EndedWindow::set_start`] where the caller already evaluated
+    /// `d0 = self.window.distance_at(b0)` (the same computation, so the
+    /// cache stays exact).
+    #[inline]
+    pub(crate) fn set_start_known(&mut self, b0: f64, d0: f64) {
+        debug_assert_eq!(d0.to_bits(), self.window.distance_at(b0).to_bits());
+        self.window.b0 = b0;
+        self.d0 = d0;
+    }
+
+    /// [`EndedWindow::set_end`] with `d1` already evaluated (as
+    /// [`EndedWindow::set_start_known`]).
+    #[inline]
+    pub(crate) fn set_end_known(&mut self, b1: f64, d1: f64) {
+        debug_assert_eq!(d1.to_bits(), self.window.distance_at(b1).to_bits());
+        self.window.b1 = b1;
+        self.d1 = d1;
+    }
 }
 
 impl From<Window> for EndedWindow {
