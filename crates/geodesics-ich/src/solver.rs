@@ -108,6 +108,7 @@ impl<'a> Solver<'a> {
             pseudo,
             group_of,
             groups,
+            ..
         } = SolverSetup::new(mesh, &tol);
         let queue = match options.schedule {
             Schedule::PriorityQueue => Queue::heap(),

@@ -277,6 +277,7 @@ impl<'a> Solver<'a> {
             pseudo,
             group_of,
             groups,
+            ..
         } = SolverSetup::new(mesh, &tol);
         let mut edge_of = vec![NONE; nh];
         let mut edge_he = Vec::new();

@@ -21,7 +21,13 @@
 //! vertices (they share one distance), the corners of zero-area faces, and
 //! the sources. A pseudo-source emits one window per opposite edge when it
 //! is popped, and again whenever its distance drops by more than the
-//! tolerance after that.
+//! tolerance after that. A saddle or flat vertex emits only into its
+//! shadow: a shortest path through it leaves at least π from where it came
+//! in on both sides, so only the rays in that sector (of width `Θ − 2π`,
+//! `Θ` its angle sum) can be first anywhere ([`geodesics_window::Shadow`]);
+//! on scanned meshes this removes most of the saddle windows, which the
+//! windows passing the vertex beat everywhere else (the paper emits around
+//! the whole fan: the `vtp-full-emission` variant).
 //!
 //! Zero-area faces: a face with two coincident corners passes windows from
 //! one long edge to the other unchanged (the two edges are one segment and
@@ -114,14 +120,21 @@ pub struct Pruning {
     /// Checking with vertices (Cases 10–12, the ICH filter, with its
     /// edge-end variants), on each child and again before a list propagates.
     pub vertex_check: bool,
+    /// A saddle or flat vertex emits pseudo-source windows only into its
+    /// shadow, the directions a shortest path through it can take
+    /// ([`geodesics_window::Shadow`]), not around its whole fan (not in
+    /// the paper; the `vtp-full-emission` variant turns it off).
+    pub shadow: bool,
 }
 
 impl Pruning {
-    /// The paper's VTP: Rule 1, Rules 2 and 3, checking with vertices.
+    /// The paper's VTP: Rule 1, Rules 2 and 3, checking with vertices;
+    /// with pseudo-source windows only in saddle shadows.
     pub const VTP: Pruning = Pruning {
         rule1: Rule1::OneAngleTwoSides,
         pairs: PairRule::Adjacent,
         vertex_check: true,
+        shadow: true,
     };
 }
 
@@ -250,7 +263,7 @@ pub const VARIANTS: &[(&str, Schedule, Merge, Pruning)] = &[
         Pruning {
             rule1: Rule1::Off,
             pairs: PairRule::Trimming,
-            vertex_check: true,
+            ..Pruning::VTP
         },
     ),
     (
@@ -260,7 +273,7 @@ pub const VARIANTS: &[(&str, Schedule, Merge, Pruning)] = &[
         Pruning {
             rule1: Rule1::OneAngleOneSplit,
             pairs: PairRule::Off,
-            vertex_check: true,
+            ..Pruning::VTP
         },
     ),
     (
@@ -296,6 +309,16 @@ pub const VARIANTS: &[(&str, Schedule, Merge, Pruning)] = &[
         Merge::Sorted,
         Pruning {
             pairs: PairRule::Off,
+            ..Pruning::VTP
+        },
+    ),
+    // The paper's emission: every pseudo-source lights its whole fan.
+    (
+        "vtp-full-emission",
+        Schedule::VertexSorted,
+        Merge::Sorted,
+        Pruning {
+            shadow: false,
             ..Pruning::VTP
         },
     ),

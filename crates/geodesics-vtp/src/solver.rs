@@ -10,8 +10,8 @@ use geodesics_window::prune::{
     prune_adjacent_ended, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
-    DistanceField, EndedWindow, FaceKind, SolverSetup, Source, Stats, Tolerance, Triangle,
-    VertexState, Window, seeds, validate_sources,
+    Arrival, DistanceField, EndedWindow, FaceKind, Shadow, SolverSetup, Source, Stats, Tolerance,
+    Triangle, VertexState, pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 
@@ -35,6 +35,9 @@ struct Solver<'a> {
     tol: Tolerance,
     kind: Vec<FaceKind>,
     verts: Vec<VertexState>,
+    /// Per vertex: how its shortest known path arrives (kept for vertices
+    /// that emit only into their shadow).
+    arrival: Vec<Arrival>,
     /// Per vertex: index into `groups` of its pinch group, or NONE.
     group_of: Vec<u32>,
     groups: Vec<Vec<u32>>,
@@ -137,6 +140,7 @@ impl<'a> Solver<'a> {
             tol,
             kind,
             verts,
+            arrival: vec![Arrival::Unknown; nv],
             group_of,
             groups,
             heap: BinaryHeap::new(),
@@ -188,7 +192,7 @@ impl<'a> Solver<'a> {
             self.force_pseudo(v);
         }
         for &(v, d) in &seeds.distances {
-            self.relax(v, d, i, || Provenance::Source(i));
+            self.relax(v, d, i, Arrival::Unknown, || Provenance::Source(i));
         }
         for &(t, w) in &seeds.windows {
             self.stats.windows_created += 1;
@@ -196,8 +200,12 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// Makes `v` (and its pinch copies) a pseudo-source that emits into
+    /// every direction.
     fn force_pseudo(&mut self, v: u32) {
-        self.verts[v as usize].pseudo = true;
+        let x = &mut self.verts[v as usize];
+        x.pseudo = true;
+        x.shadowed = false;
         if self.verts[v as usize].grouped {
             let g = self.group_of[v as usize];
             for k in 0..self.groups[g as usize].len() {
@@ -209,18 +217,28 @@ impl<'a> Solver<'a> {
 
     // ------------------------------------------------------------ distances
 
-    /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter;
-    /// `how` is asked only then. The test is inlined at every call site:
-    /// most candidates lose.
+    /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter,
+    /// by a path arriving as `arrival`; `how` is asked only then. The test
+    /// is inlined at every call site: most candidates lose.
     #[inline(always)]
-    fn relax(&mut self, v: u32, d: f64, s: u32, how: impl FnOnce() -> Provenance) {
+    fn relax(
+        &mut self,
+        v: u32,
+        d: f64,
+        s: u32,
+        arrival: Arrival,
+        how: impl FnOnce() -> Provenance,
+    ) {
         if d < self.verts[v as usize].dist {
-            self.lower(v, d, s, how());
+            self.lower(v, d, s, arrival, how());
         }
     }
 
     /// [`Solver::relax`] once `d` is known to be shorter.
-    fn lower(&mut self, v: u32, d: f64, s: u32, how: Provenance) {
+    fn lower(&mut self, v: u32, d: f64, s: u32, arrival: Arrival, how: Provenance) {
+        if self.verts[v as usize].shadowed {
+            self.arrival[v as usize] = arrival;
+        }
         self.set_dist(v, d, s);
         if !self.prov.is_empty() {
             self.prov[v as usize] = how;
@@ -427,29 +445,49 @@ impl<'a> Solver<'a> {
         let x = &mut self.verts[v as usize];
         let (d, s) = (x.dist, x.src);
         x.emitted = d;
+        let shadow = if x.shadowed && self.options.pruning.shadow {
+            Shadow::of(mesh, v, self.arrival[v as usize], &self.tol)
+        } else {
+            None
+        };
         self.stats.pseudo_source_emissions += 1;
+        let mut fan_angle = 0.0;
         for h in mesh.outgoing(v) {
             let a = mesh.head(h);
             let p = Mesh::prev(h);
             let b = mesh.tail(p);
             let (la, lb) = (mesh.length(h), mesh.length(p));
-            self.relax(a, d + la, s, || Provenance::Vertex {
+            let to_v = mesh
+                .twin(h)
+                .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
+            self.relax(a, d + la, s, to_v, || Provenance::Vertex {
                 from: v,
                 length: la,
             });
-            self.relax(b, d + lb, s, || Provenance::Vertex {
-                from: v,
-                length: lb,
+            self.relax(b, d + lb, s, Arrival::Edge { half_edge: p }, || {
+                Provenance::Vertex {
+                    from: v,
+                    length: lb,
+                }
             });
-            let f = Mesh::face_of(h);
-            if self.kind[f as usize] != FaceKind::Proper {
+            let corner = mesh.corner_angle(h);
+            let rays = match shadow {
+                None => None,
+                Some(shadow) => match shadow.corner_part(fan_angle, corner) {
+                    Some(rays) => Some(rays),
+                    None => {
+                        fan_angle += corner;
+                        continue;
+                    }
+                },
+            };
+            fan_angle += corner;
+            if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
                 continue;
             }
-            let o = Mesh::next(h);
-            let Some(t) = mesh.twin(o) else { continue };
-            let l = mesh.length(o);
-            let c = self.mesh.apex(o);
-            let w = Window::across_edge(l, c, d, s);
+            let Some((t, w)) = pseudo_source_window(mesh, h, d, s, rays) else {
+                continue;
+            };
             self.stats.windows_created += 1;
             self.append(t, &mut [EndedWindow::new(w)]);
         }
@@ -662,7 +700,11 @@ impl<'a> Solver<'a> {
         if best.is_finite() {
             let w = list[s].window;
             let bend = info[s].1;
-            self.relax(c, best, w.source, || Provenance::Window {
+            let arrival = Arrival::Window {
+                half_edge: h,
+                at: bend,
+            };
+            self.relax(c, best, w.source, arrival, || Provenance::Window {
                 half_edge: h,
                 pseudo_source: w.p,
                 sigma: w.sigma,

@@ -12,6 +12,8 @@
 //!   ([`Window::separating_point`]) and lighting the apex
 //!   ([`Window::apex_distance`]).
 //! - [`prune`]: the pairwise and vertex pruning predicates of Qin et al. 2016.
+//! - [`Shadow`]: the directions a saddle vertex's pseudo-source windows can
+//!   light first, from how its shortest path arrived ([`Arrival`]).
 //! - [`Tolerance`]: the one tolerance policy, relative to the mesh scale.
 //! - [`Source`], [`DistanceField`], [`Stats`]: what every solver takes and
 //!   returns; [`GeodesicPath`] and [`SurfacePoint`]: the paths they trace.
@@ -52,6 +54,7 @@
 mod path;
 pub mod prune;
 mod setup;
+mod shadow;
 mod sources;
 mod tolerance;
 mod types;
@@ -59,6 +62,7 @@ mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
 pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState, face_kind};
+pub use shadow::{Arrival, Shadow, pseudo_source_window};
 pub use sources::{
     Seeds, SourceError, SourceStart, barycentric_ok, seeds, source_start, validate_sources,
 };

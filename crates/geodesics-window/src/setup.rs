@@ -59,6 +59,10 @@ pub struct VertexState {
     pub pseudo: bool,
     /// Has pinch copies (see [`SolverSetup::group_of`]).
     pub grouped: bool,
+    /// Emits only into its shadow (see [`SolverSetup::shadowed`]); cleared
+    /// when a solver makes the vertex a pseudo-source of its own (a source,
+    /// an AVTP restart), which emits everywhere.
+    pub shadowed: bool,
 }
 
 /// The per-mesh tables a solver starts from.
@@ -69,6 +73,11 @@ pub struct SolverSetup {
     /// Per vertex: a pseudo-source (boundary, saddle or flat vertex, corner
     /// of a zero-area face, pinch copy).
     pub pseudo: Vec<bool>,
+    /// Per vertex: a pseudo-source only because a geodesic may pass
+    /// through it (an interior flat or saddle vertex whose faces are all
+    /// proper, not a pinch copy), so its windows are needed only in its
+    /// shadow ([`crate::Shadow`]).
+    pub shadowed: Vec<bool>,
     /// Per vertex: index into `groups` of its pinch group, or [`NO_GROUP`].
     pub group_of: Vec<u32>,
     /// The pinch groups: the fan copies of one input vertex, which share
@@ -91,13 +100,15 @@ impl SolverSetup {
         self.pseudo
             .iter()
             .zip(&self.group_of)
-            .map(|(&pseudo, &g)| VertexState {
+            .zip(&self.shadowed)
+            .map(|((&pseudo, &g), &shadowed)| VertexState {
                 dist: f64::INFINITY,
                 emitted: f64::INFINITY,
                 src: crate::NO_SOURCE,
                 inside: false,
                 pseudo,
                 grouped: g != NO_GROUP,
+                shadowed,
             })
             .collect()
     }
@@ -113,10 +124,14 @@ impl SolverSetup {
         let mut pseudo: Vec<bool> = (0..nv as u32)
             .map(|v| mesh.is_boundary(v) || tol.is_flat_or_saddle(mesh.angle_sum(v)))
             .collect();
+        let mut shadowed: Vec<bool> = (0..nv as u32)
+            .map(|v| pseudo[v as usize] && !mesh.is_boundary(v))
+            .collect();
         for (f, k) in kind.iter().enumerate() {
             if *k != FaceKind::Proper {
                 for v in mesh.face(f as u32) {
                     pseudo[v as usize] = true;
+                    shadowed[v as usize] = false;
                 }
             }
         }
@@ -135,11 +150,13 @@ impl SolverSetup {
         for g in &groups {
             for &v in g {
                 pseudo[v as usize] = true;
+                shadowed[v as usize] = false;
             }
         }
         SolverSetup {
             kind,
             pseudo,
+            shadowed,
             group_of,
             groups,
         }

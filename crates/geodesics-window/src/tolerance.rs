@@ -13,6 +13,14 @@ const EPS_MULTIPLE: f64 = 64.0;
 /// vertices as pseudo-sources only costs windows, never exactness.
 const FLAT_ANGLE_MARGIN: f64 = 1e-5;
 
+/// Angle (radians) by which the shadow of a saddle vertex is widened on
+/// each side (see [`crate::Shadow`]). The direction a path arrives from is
+/// known to about 1e-12 rad (a pseudo-source unfolded across many faces);
+/// where a path that bends slightly at a window end ties the straight one
+/// within the length margin, its direction differs by under 1e-7 rad.
+/// A wider sector only costs windows.
+const SHADOW_ANGLE_MARGIN: f64 = 1e-5;
+
 /// Tolerance policy, derived from the scale of one mesh.
 ///
 /// Every comparison between two path lengths goes through
@@ -28,6 +36,9 @@ pub struct Tolerance {
     /// Margin below `2π` of the angle sum above which an interior vertex
     /// is treated as a pseudo-source (flat or saddle).
     pub flat_angle: f64,
+    /// Widening, on each side, of the sector of directions a saddle vertex
+    /// emits into (see [`crate::Shadow`]).
+    pub shadow_angle: f64,
 }
 
 impl Tolerance {
@@ -43,6 +54,7 @@ impl Tolerance {
             absolute: EPS_MULTIPLE * f64::EPSILON * scale,
             relative: EPS_MULTIPLE * f64::EPSILON,
             flat_angle: FLAT_ANGLE_MARGIN,
+            shadow_angle: SHADOW_ANGLE_MARGIN,
         }
     }
 

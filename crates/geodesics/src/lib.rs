@@ -112,6 +112,7 @@ impl Algorithm {
         "vtp-trimming",
         "vtp-no-rule1",
         "vtp-no-rules23",
+        "vtp-full-emission",
         "mmp",
         "fwp-mmp",
         "ich",
@@ -304,7 +305,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-order-free, vtp-mmp, vtp-ch, \
-             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, mmp, fwp-mmp, ich, fwp-ch, pvtp, avtp, pavtp)"
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, vtp-full-emission, mmp, fwp-mmp, ich, fwp-ch, pvtp, avtp, pavtp)"
         );
     }
 

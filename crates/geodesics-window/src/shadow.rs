@@ -1,0 +1,323 @@
+//! The shadow of a saddle vertex: the only directions its pseudo-source
+//! windows can light first.
+//!
+//! A shortest path through a vertex `v` leaves it at an angle of at least
+//! π from the direction it arrived from, measured on either side within
+//! the surface (otherwise it could be shortened by cutting the corner at
+//! `v`; Mitchell, Mount and Papadimitriou 1987, Lemma 3.5). Every shortest
+//! path to a point `q` through `v` continues *some* shortest path to `v`,
+//! and any shortest path to `v` will do: if `q`'s shortest path is
+//! `γ' + [v q]`, then `γ + [v q]` has the same length for every shortest
+//! `γ` to `v`, so it is shortest too, and leaves `v` at least π from `γ` on
+//! both sides. So a saddle vertex whose total angle is `Θ > 2π`, reached
+//! along a direction `α` (an angle around `v`, from where the path came),
+//! only needs to emit windows into the directions `β` with
+//! `(β − α) mod Θ ∈ [π, Θ − π]`: its shadow, a sector of width `Θ − 2π`,
+//! exactly the gap that the windows passing `v` on either side leave
+//! behind it. Everywhere else a window from `v` is beaten by a path that
+//! does not touch `v`. VTP's emission covers the whole fan instead, and on
+//! scanned meshes, whose saddles are mostly noise a few degrees above 2π,
+//! those windows were most of the propagations.
+//!
+//! Angles around `v` are measured counter-clockwise from its first
+//! outgoing half-edge ([`Mesh::outgoing`]), summing corner angles. The
+//! sector is widened by [`Tolerance::shadow_angle`] on each side, far more
+//! than the error of the arrival direction (which comes from a pseudo-source
+//! position unfolded across many faces), so nothing needed is dropped; a
+//! distance lowered later without a new emission (by less than the margin)
+//! can move the arrival, but then every point it misses is reached by the
+//! corner-cutting path within that margin.
+
+use std::f64::consts::{PI, TAU};
+
+use geodesics_mesh::Mesh;
+use glam::DVec2;
+
+use crate::{Tolerance, Window};
+
+/// How the shortest known path reaches a vertex: recorded when its distance
+/// drops, read when it emits.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Arrival {
+    /// From a source, or in a way not recorded: the vertex emits into every
+    /// direction.
+    #[default]
+    Unknown,
+    /// Straight through the edge of `half_edge`, whose face has the vertex
+    /// as its apex, crossing it at `at` (in the half-edge's frame).
+    Window {
+        /// The half-edge the path crossed.
+        half_edge: u32,
+        /// Where it crossed, from the half-edge's tail.
+        at: f64,
+    },
+    /// Along the edge of `half_edge`, an outgoing half-edge of the vertex,
+    /// from its head.
+    Edge {
+        /// The outgoing half-edge pointing back along the path.
+        half_edge: u32,
+    },
+}
+
+/// The sector of directions around a vertex that its pseudo-source windows
+/// may light (see the module docs), in the vertex's angle coordinate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shadow {
+    /// First direction of the sector, in `[0, total)`.
+    start: f64,
+    /// Last direction (`start < end < start + total`; past `total` it
+    /// wraps to the beginning of the fan).
+    end: f64,
+    /// The vertex's angle sum.
+    total: f64,
+}
+
+impl Shadow {
+    /// The shadow of interior vertex `v` (its faces all proper, its angle
+    /// sum flat or above `2π`) reached by `arrival`; `None` when the vertex
+    /// must emit everywhere (arrival unknown, or a sector covering the
+    /// whole fan).
+    pub fn of(mesh: &Mesh, v: u32, arrival: Arrival, tol: &Tolerance) -> Option<Shadow> {
+        let (g, offset) = match arrival {
+            Arrival::Unknown => return None,
+            Arrival::Window { half_edge: h, at } => {
+                // The corner of `v` in the face of `h` runs from `v → A`
+                // (the half-edge before `h`) to `v → B`, counter-clockwise
+                // in `h`'s frame as around `v`.
+                let g = Mesh::prev(h);
+                let c = mesh.apex(h);
+                let to_a = -c;
+                let back = DVec2::new(at, 0.0) - c;
+                let psi = to_a.perp_dot(back).atan2(to_a.dot(back));
+                (g, psi.clamp(0.0, mesh.corner_angle(g)))
+            }
+            Arrival::Edge { half_edge: g } => (g, 0.0),
+        };
+        let mut fan_angle = 0.0;
+        let mut found = false;
+        for h in mesh.outgoing(v) {
+            if h == g {
+                found = true;
+                break;
+            }
+            fan_angle += mesh.corner_angle(h);
+        }
+        if !found {
+            return None;
+        }
+        let total = mesh.angle_sum(v);
+        let margin = tol.shadow_angle;
+        let width = (total - TAU).max(0.0) + 2.0 * margin;
+        if !(width < total) {
+            return None;
+        }
+        let start = (fan_angle + offset + PI - margin).rem_euclid(total);
+        Some(Shadow {
+            start,
+            end: start + width,
+            total,
+        })
+    }
+
+    /// The part of the corner spanning `[fan_angle, fan_angle + corner]`
+    /// inside the sector, as offsets `(ψ0, ψ1)` from the corner's first
+    /// direction, or `None` if they do not meet.
+    pub fn corner_part(&self, fan_angle: f64, corner: f64) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        // The sector as it lies, and wrapped once around the fan.
+        for shift in [0.0, self.total] {
+            let a = (self.start - shift).max(fan_angle);
+            let b = (self.end - shift).min(fan_angle + corner);
+            if a <= b {
+                lo = lo.min(a);
+                hi = hi.max(b);
+            }
+        }
+        (lo <= hi).then_some((lo - fan_angle, hi - fan_angle))
+    }
+}
+
+/// The pseudo-source window of vertex `v = tail(h)` at distance `sigma` on
+/// the edge opposite its corner in the face of `h` (on the twin of
+/// `next(h)`, lighting the face beyond), made of the rays that leave `v`
+/// at offsets `rays = (ψ0, ψ1)` from the direction of `h` (the whole
+/// corner when `None`). `None` if that edge is a boundary or the rays
+/// light none of it.
+pub fn pseudo_source_window(
+    mesh: &Mesh,
+    h: u32,
+    sigma: f64,
+    source: u32,
+    rays: Option<(f64, f64)>,
+) -> Option<(u32, Window)> {
+    let o = Mesh::next(h);
+    let t = mesh.twin(o)?;
+    let l = mesh.length(o);
+    let mut w = Window::across_edge(l, mesh.apex(o), sigma, source);
+    if let Some((psi0, psi1)) = rays {
+        // In the triangle v, a = head(h), b: the ray at offset ψ from
+        // v → a meets a → b at s(ψ) = |va| sin ψ / sin(ψ + A) from a (law
+        // of sines; A the angle at a, ψ + A < π). The twin runs b → a.
+        let (va, angle_a) = (mesh.length(h), mesh.corner_angle(o));
+        let from_a = |psi: f64| (va * psi.sin() / (psi + angle_a).sin()).clamp(0.0, l);
+        if psi0 > 0.0 {
+            w.b1 = l - from_a(psi0);
+        }
+        if psi1 < mesh.corner_angle(h) {
+            w.b0 = l - from_a(psi1);
+        }
+        if !(w.b0 < w.b1) {
+            return None;
+        }
+    }
+    Some((t, w))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geodesics_mesh::{BuildOptions, IndexedTriangles};
+    use glam::DVec3;
+
+    /// A fan of `n` triangles around vertex 0 at the origin, rim points on
+    /// a zigzag so the angle sum exceeds 2π when `lift` is not zero, closed
+    /// by a second fan below (so every edge has a twin).
+    fn saddle(n: usize, lift: f64) -> Mesh {
+        let mut positions = vec![DVec3::ZERO];
+        for k in 0..n {
+            let a = TAU * k as f64 / n as f64;
+            let z = if k % 2 == 0 { lift } else { -lift };
+            positions.push(DVec3::new(a.cos(), a.sin(), z));
+        }
+        positions.push(DVec3::new(0.0, 0.0, -2.0));
+        let (n32, bottom) = (n as u32, n as u32 + 1);
+        let triangles = (0..n32)
+            .flat_map(|k| {
+                let (a, b) = (1 + k, 1 + (k + 1) % n32);
+                [[0, a, b], [bottom, b, a]]
+            })
+            .collect();
+        Mesh::build(
+            IndexedTriangles {
+                positions,
+                triangles,
+            },
+            &BuildOptions::default(),
+        )
+        .unwrap()
+    }
+
+    fn tol() -> Tolerance {
+        Tolerance::for_scale(1.0)
+    }
+
+    #[test]
+    fn a_saddle_reached_along_an_edge_shadows_the_opposite_side() {
+        let mesh = saddle(6, 0.5);
+        let total = mesh.angle_sum(0);
+        assert!(total > TAU);
+        let first = mesh.outgoing(0).next().unwrap();
+        let shadow = Shadow::of(&mesh, 0, Arrival::Edge { half_edge: first }, &tol()).unwrap();
+        // The sector starts π (less the margin) from the arrival and is
+        // Θ − 2π (plus two margins) wide.
+        let m = tol().shadow_angle;
+        assert!((shadow.start - (PI - m)).abs() < 1e-12);
+        assert!((shadow.end - shadow.start - (total - TAU + 2.0 * m)).abs() < 1e-12);
+        // The first corner (directions 0 .. its angle) is far from it.
+        assert_eq!(shadow.corner_part(0.0, mesh.corner_angle(first)), None);
+        // Exactly one or two corners around the opposite direction meet it,
+        // and what they get adds up to the sector's width.
+        let mut fan = 0.0;
+        let mut lit = 0.0;
+        for h in mesh.outgoing(0) {
+            let c = mesh.corner_angle(h);
+            if let Some((a, b)) = shadow.corner_part(fan, c) {
+                assert!(0.0 <= a && a <= b && b <= c);
+                lit += b - a;
+            }
+            fan += c;
+        }
+        assert!((lit - (shadow.end - shadow.start)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_sector_wraps_around_the_start_of_the_fan() {
+        let s = Shadow {
+            start: 6.0,
+            end: 7.0,
+            total: 6.5,
+        };
+        assert_eq!(s.corner_part(5.5, 1.0), Some((0.5, 1.0)));
+        let (a, b) = s.corner_part(0.0, 1.0).unwrap();
+        assert_eq!(a, 0.0);
+        assert!((b - 0.5).abs() < 1e-15);
+        assert_eq!(s.corner_part(1.0, 1.0), None);
+    }
+
+    #[test]
+    fn arriving_through_a_window_measures_the_direction_inside_the_corner() {
+        let mesh = saddle(6, 0.5);
+        // The face of a half-edge opposite vertex 0: its apex is vertex 0.
+        let h = (0..mesh.half_edge_count() as u32)
+            .find(|&h| mesh.opposite_vertex(h) == 0)
+            .unwrap();
+        let g = Mesh::prev(h);
+        let mut fan = 0.0;
+        for k in mesh.outgoing(0) {
+            if k == g {
+                break;
+            }
+            fan += mesh.corner_angle(k);
+        }
+        // Crossing at the tail A of `h` is arriving along `v → A`; at the
+        // head B, along the far side of the corner.
+        let total = mesh.angle_sum(0);
+        let m = tol().shadow_angle;
+        for (at, offset) in [(0.0, 0.0), (mesh.length(h), mesh.corner_angle(g))] {
+            let s = Shadow::of(&mesh, 0, Arrival::Window { half_edge: h, at }, &tol()).unwrap();
+            let want = (fan + offset + PI - m).rem_euclid(total);
+            assert!(
+                (s.start - want).abs() < 1e-12,
+                "{at}: {} vs {want}",
+                s.start
+            );
+        }
+    }
+
+    #[test]
+    fn a_convex_or_unknown_arrival_is_not_restricted_wrongly() {
+        let mesh = saddle(6, 0.5);
+        assert_eq!(Shadow::of(&mesh, 0, Arrival::Unknown, &tol()), None);
+        // A half-edge that does not leave the vertex tells nothing.
+        let other = (0..mesh.half_edge_count() as u32)
+            .find(|&h| mesh.tail(h) != 0)
+            .unwrap();
+        assert_eq!(
+            Shadow::of(&mesh, 0, Arrival::Edge { half_edge: other }, &tol()),
+            None
+        );
+    }
+
+    #[test]
+    fn rays_of_a_corner_light_the_matching_part_of_the_opposite_edge() {
+        let mesh = saddle(6, 0.0);
+        let h = mesh.outgoing(0).next().unwrap();
+        let corner = mesh.corner_angle(h);
+        let (t, full) = pseudo_source_window(&mesh, h, 1.0, 0, None).unwrap();
+        assert_eq!((full.b0, full.b1), (0.0, mesh.length(t)));
+        // The middle third of the directions: a ray at ψ from v → a hits
+        // the edge where the window's source sees it at that angle.
+        let (psi0, psi1) = (corner / 3.0, 2.0 * corner / 3.0);
+        let (_, part) = pseudo_source_window(&mesh, h, 1.0, 0, Some((psi0, psi1))).unwrap();
+        assert!(0.0 < part.b0 && part.b0 < part.b1 && part.b1 < full.b1);
+        let a = DVec2::new(mesh.length(t), 0.0); // head of the twin: vertex a
+        let angle_to = |x: f64| {
+            let (u, w) = (a - part.p, DVec2::new(x, 0.0) - part.p);
+            u.perp_dot(w).atan2(u.dot(w)).abs()
+        };
+        assert!((angle_to(part.b1) - psi0).abs() < 1e-12);
+        assert!((angle_to(part.b0) - psi1).abs() < 1e-12);
+        // Rays outside the corner's range light nothing.
+        assert!(pseudo_source_window(&mesh, h, 1.0, 0, Some((corner, corner))).is_none());
+    }
+}
