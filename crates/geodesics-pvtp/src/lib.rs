@@ -8,10 +8,15 @@
 //! Section 4.2) until `k_ad` vertices (adapted by Eq. 5) or `K = 100·T`
 //! face jobs (Eq. 6; a face job holds the up to three window lists of one
 //! face) are ready, then propagates lists in *phases*: all lists of a
-//! phase cross their faces in parallel on a rayon pool of `T` threads,
-//! each face job writing only its own output and the lists it owns in
-//! that phase (delayed writes; each list has a main and a side buffer, the
-//! dual arrays `A_from` / `A_to`); the distance updates are then applied
+//! phase cross their faces in parallel on a crew of `T` threads (the
+//! calling thread and `T − 1` helpers spawned once per solve on a rayon
+//! pool of `T` threads, which wait for the next phase spinning rather than
+//! sleeping: a fork/join per phase cost more than a short phase's work),
+//! each thread taking first the jobs of the faces it owns (a hash of
+//! space, so a list's windows stay in one core's cache), each face job
+//! writing only its own output and the lists it owns in that phase
+//! (delayed writes; each list has a main and a side buffer, the dual
+//! arrays `A_from` / `A_to`); the distance updates are then applied
 //! and the improved vertices re-queued sequentially in job order, and the
 //! lists that received windows and touch the traversed area form the next
 //! phase. While such a phase has fewer than `K` jobs, the next round's
@@ -24,7 +29,9 @@
 //! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
 //! and the sources are pseudo-sources as in VTP: they emit windows when
 //! popped and again whenever their distance drops by more than the
-//! tolerance afterwards, including inside the swept area (paper 4.7).
+//! tolerance afterwards, including inside the swept area (paper 4.7); a
+//! saddle or flat vertex only into its shadow, as in VTP
+//! (`geodesics_window::Shadow`).
 //!
 //! # Example
 //!
@@ -57,6 +64,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod buckets;
+mod crew;
 mod error;
 mod solver;
 
@@ -115,8 +123,7 @@ pub fn solve(
         for (i, source) in sources.iter().enumerate() {
             s.seed(i as u32, source);
         }
-        s.run();
-        s.finish(start)
+        s.run().finish(start)
     }))
 }
 

@@ -192,7 +192,7 @@ impl<'a> Solver<'a> {
             self.force_pseudo(v);
         }
         for &(v, d) in &seeds.distances {
-            self.relax(v, d, i, Arrival::Unknown, || Provenance::Source(i));
+            self.relax(v, d, i, Arrival::default, || Provenance::Source(i));
         }
         for &(t, w) in &seeds.windows {
             self.stats.windows_created += 1;
@@ -218,27 +218,29 @@ impl<'a> Solver<'a> {
     // ------------------------------------------------------------ distances
 
     /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter,
-    /// by a path arriving as `arrival`; `how` is asked only then. The test
-    /// is inlined at every call site: most candidates lose.
+    /// by a path arriving as `arrival` says; `arrival` (for a vertex that
+    /// emits into its shadow) and `how` are asked only then. The test is
+    /// inlined at every call site: most candidates lose.
     #[inline(always)]
     fn relax(
         &mut self,
         v: u32,
         d: f64,
         s: u32,
-        arrival: Arrival,
+        arrival: impl FnOnce() -> Arrival,
         how: impl FnOnce() -> Provenance,
     ) {
-        if d < self.verts[v as usize].dist {
-            self.lower(v, d, s, arrival, how());
+        let x = &self.verts[v as usize];
+        if d < x.dist {
+            if x.shadowed {
+                self.arrival[v as usize] = arrival();
+            }
+            self.lower(v, d, s, how());
         }
     }
 
     /// [`Solver::relax`] once `d` is known to be shorter.
-    fn lower(&mut self, v: u32, d: f64, s: u32, arrival: Arrival, how: Provenance) {
-        if self.verts[v as usize].shadowed {
-            self.arrival[v as usize] = arrival;
-        }
+    fn lower(&mut self, v: u32, d: f64, s: u32, how: Provenance) {
         self.set_dist(v, d, s);
         if !self.prov.is_empty() {
             self.prov[v as usize] = how;
@@ -457,35 +459,28 @@ impl<'a> Solver<'a> {
             let p = Mesh::prev(h);
             let b = mesh.tail(p);
             let (la, lb) = (mesh.length(h), mesh.length(p));
-            let to_v = mesh
-                .twin(h)
-                .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
-            self.relax(a, d + la, s, to_v, || Provenance::Vertex {
+            let back_to_v = || mesh.twin(h).map_or(Arrival::Unknown, Arrival::along);
+            self.relax(a, d + la, s, back_to_v, || Provenance::Vertex {
                 from: v,
                 length: la,
             });
-            self.relax(b, d + lb, s, Arrival::Edge { half_edge: p }, || {
-                Provenance::Vertex {
+            self.relax(
+                b,
+                d + lb,
+                s,
+                || Arrival::along(p),
+                || Provenance::Vertex {
                     from: v,
                     length: lb,
-                }
-            });
-            let corner = mesh.corner_angle(h);
-            let rays = match shadow {
-                None => None,
-                Some(shadow) => match shadow.corner_part(fan_angle, corner) {
-                    Some(rays) => Some(rays),
-                    None => {
-                        fan_angle += corner;
-                        continue;
-                    }
                 },
-            };
+            );
+            let corner = mesh.corner_angle(h);
+            let rays = Shadow::rays(shadow.as_ref(), fan_angle, corner);
             fan_angle += corner;
             if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
                 continue;
             }
-            let Some((t, w)) = pseudo_source_window(mesh, h, d, s, rays) else {
+            let Some((t, w)) = rays.and_then(|r| pseudo_source_window(mesh, h, d, s, r)) else {
                 continue;
             };
             self.stats.windows_created += 1;
@@ -700,10 +695,7 @@ impl<'a> Solver<'a> {
         if best.is_finite() {
             let w = list[s].window;
             let bend = info[s].1;
-            let arrival = Arrival::Window {
-                half_edge: h,
-                at: bend,
-            };
+            let arrival = || Arrival::through_edge_of(h, bend);
             self.relax(c, best, w.source, arrival, || Provenance::Window {
                 half_edge: h,
                 pseudo_source: w.p,

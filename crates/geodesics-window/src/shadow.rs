@@ -36,7 +36,8 @@ use glam::DVec2;
 use crate::{Tolerance, Window};
 
 /// How the shortest known path reaches a vertex: recorded when its distance
-/// drops, read when it emits.
+/// drops (cheaply: a vertex is lowered several times before it emits), and
+/// turned into a direction ([`Arrival::direction`]) only when it emits.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Arrival {
     /// From a source, or in a way not recorded: the vertex emits into every
@@ -59,6 +60,43 @@ pub enum Arrival {
     },
 }
 
+impl Arrival {
+    /// A path straight through the edge of `h` (whose face has the vertex
+    /// as its apex), crossing it at `at` (in `h`'s frame).
+    #[inline]
+    pub fn through_edge_of(h: u32, at: f64) -> Arrival {
+        Arrival::Window { half_edge: h, at }
+    }
+
+    /// A path along the edge of `g`, an outgoing half-edge of the vertex,
+    /// from its head.
+    #[inline]
+    pub fn along(g: u32) -> Arrival {
+        Arrival::Edge { half_edge: g }
+    }
+
+    /// The direction the path arrives from, as `(g, offset)`: the angle
+    /// `offset` counter-clockwise from the outgoing half-edge `g` of the
+    /// vertex, within `g`'s corner. `None` when unknown.
+    pub fn direction(&self, mesh: &Mesh) -> Option<(u32, f64)> {
+        match *self {
+            Arrival::Unknown => None,
+            Arrival::Window { half_edge: h, at } => {
+                // The corner of the apex in the face of `h` runs from the
+                // half-edge before `h` (apex → A) to apex → B,
+                // counter-clockwise in `h`'s frame as around the vertex.
+                let g = Mesh::prev(h);
+                let c = mesh.apex(h);
+                let to_a = -c;
+                let back = DVec2::new(at, 0.0) - c;
+                let psi = to_a.perp_dot(back).atan2(to_a.dot(back));
+                Some((g, psi.clamp(0.0, mesh.corner_angle(g))))
+            }
+            Arrival::Edge { half_edge: g } => Some((g, 0.0)),
+        }
+    }
+}
+
 /// The sector of directions around a vertex that its pseudo-source windows
 /// may light (see the module docs), in the vertex's angle coordinate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,23 +114,10 @@ impl Shadow {
     /// The shadow of interior vertex `v` (its faces all proper, its angle
     /// sum flat or above `2π`) reached by `arrival`; `None` when the vertex
     /// must emit everywhere (arrival unknown, or a sector covering the
-    /// whole fan).
+    /// whole fan). Walks the fan to place the arrival; a solver that keeps
+    /// its fans' angles uses [`Shadow::around`].
     pub fn of(mesh: &Mesh, v: u32, arrival: Arrival, tol: &Tolerance) -> Option<Shadow> {
-        let (g, offset) = match arrival {
-            Arrival::Unknown => return None,
-            Arrival::Window { half_edge: h, at } => {
-                // The corner of `v` in the face of `h` runs from `v → A`
-                // (the half-edge before `h`) to `v → B`, counter-clockwise
-                // in `h`'s frame as around `v`.
-                let g = Mesh::prev(h);
-                let c = mesh.apex(h);
-                let to_a = -c;
-                let back = DVec2::new(at, 0.0) - c;
-                let psi = to_a.perp_dot(back).atan2(to_a.dot(back));
-                (g, psi.clamp(0.0, mesh.corner_angle(g)))
-            }
-            Arrival::Edge { half_edge: g } => (g, 0.0),
-        };
+        let (g, offset) = arrival.direction(mesh)?;
         let mut fan_angle = 0.0;
         let mut found = false;
         for h in mesh.outgoing(v) {
@@ -105,13 +130,19 @@ impl Shadow {
         if !found {
             return None;
         }
-        let total = mesh.angle_sum(v);
+        Shadow::around(mesh.angle_sum(v), fan_angle + offset, tol)
+    }
+
+    /// The shadow of a vertex with angle sum `total` whose path arrives
+    /// from the direction at angle `arrival` of its fan; `None` when the
+    /// sector would cover the whole fan.
+    pub fn around(total: f64, arrival: f64, tol: &Tolerance) -> Option<Shadow> {
         let margin = tol.shadow_angle;
         let width = (total - TAU).max(0.0) + 2.0 * margin;
         if !(width < total) {
             return None;
         }
-        let start = (fan_angle + offset + PI - margin).rem_euclid(total);
+        let start = (arrival + PI - margin).rem_euclid(total);
         Some(Shadow {
             start,
             end: start + width,
@@ -119,9 +150,22 @@ impl Shadow {
         })
     }
 
+    /// The rays a pseudo-source with shadow `shadow` (`None`: it emits
+    /// everywhere) emits into through its corner spanning
+    /// `[fan_angle, fan_angle + corner]`, for [`pseudo_source_window`]:
+    /// [`ALL_RAYS`] without a shadow, `None` when the corner lies outside it.
+    #[inline]
+    pub fn rays(shadow: Option<&Shadow>, fan_angle: f64, corner: f64) -> Option<(f64, f64)> {
+        match shadow {
+            None => Some(ALL_RAYS),
+            Some(s) => s.corner_part(fan_angle, corner),
+        }
+    }
+
     /// The part of the corner spanning `[fan_angle, fan_angle + corner]`
     /// inside the sector, as offsets `(ψ0, ψ1)` from the corner's first
-    /// direction, or `None` if they do not meet.
+    /// direction (`ψ1` infinite when it runs to the corner's end), or
+    /// `None` if they do not meet.
     pub fn corner_part(&self, fan_angle: f64, corner: f64) -> Option<(f64, f64)> {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         // The sector as it lies, and wrapped once around the fan.
@@ -133,44 +177,50 @@ impl Shadow {
                 hi = hi.max(b);
             }
         }
-        (lo <= hi).then_some((lo - fan_angle, hi - fan_angle))
+        // A sector reaching the corner's last direction takes all of its
+        // rays there ([`ALL_RAYS`]' end): the window then ends exactly at
+        // the vertex, not an ulp short of it.
+        let end = if hi >= fan_angle + corner {
+            f64::INFINITY
+        } else {
+            hi - fan_angle
+        };
+        (lo <= hi).then_some((lo - fan_angle, end))
     }
 }
+
+/// Every ray of a corner: `(0, ∞)` for [`pseudo_source_window`].
+pub const ALL_RAYS: (f64, f64) = (0.0, f64::INFINITY);
 
 /// The pseudo-source window of vertex `v = tail(h)` at distance `sigma` on
 /// the edge opposite its corner in the face of `h` (on the twin of
 /// `next(h)`, lighting the face beyond), made of the rays that leave `v`
-/// at offsets `rays = (ψ0, ψ1)` from the direction of `h` (the whole
-/// corner when `None`). `None` if that edge is a boundary or the rays
-/// light none of it.
+/// at offsets `rays = (ψ0, ψ1)` from the direction of `h` ([`ALL_RAYS`]:
+/// the whole corner, exactly the full edge). `None` if that edge is a
+/// boundary or the rays light none of it.
 pub fn pseudo_source_window(
     mesh: &Mesh,
     h: u32,
     sigma: f64,
     source: u32,
-    rays: Option<(f64, f64)>,
+    (psi0, psi1): (f64, f64),
 ) -> Option<(u32, Window)> {
     let o = Mesh::next(h);
     let t = mesh.twin(o)?;
     let l = mesh.length(o);
     let mut w = Window::across_edge(l, mesh.apex(o), sigma, source);
-    if let Some((psi0, psi1)) = rays {
-        // In the triangle v, a = head(h), b: the ray at offset ψ from
-        // v → a meets a → b at s(ψ) = |va| sin ψ / sin(ψ + A) from a (law
-        // of sines; A the angle at a, ψ + A < π). The twin runs b → a.
-        let (va, angle_a) = (mesh.length(h), mesh.corner_angle(o));
-        let from_a = |psi: f64| (va * psi.sin() / (psi + angle_a).sin()).clamp(0.0, l);
-        if psi0 > 0.0 {
-            w.b1 = l - from_a(psi0);
-        }
-        if psi1 < mesh.corner_angle(h) {
-            w.b0 = l - from_a(psi1);
-        }
-        if !(w.b0 < w.b1) {
-            return None;
-        }
+    // In the triangle v, a = head(h), b: the ray at offset ψ from v → a
+    // meets a → b at s(ψ) = |va| sin ψ / sin(ψ + A) from a (law of sines;
+    // A the angle at a, ψ + A < π). The twin runs b → a.
+    let (va, angle_a) = (mesh.length(h), mesh.corner_angle(o));
+    let from_a = |psi: f64| (va * psi.sin() / (psi + angle_a).sin()).clamp(0.0, l);
+    if psi0 > 0.0 {
+        w.b1 = l - from_a(psi0);
     }
-    Some((t, w))
+    if psi1 < mesh.corner_angle(h) {
+        w.b0 = l - from_a(psi1);
+    }
+    (w.b0 < w.b1).then_some((t, w))
 }
 
 #[cfg(test)]
@@ -217,7 +267,7 @@ mod tests {
         let total = mesh.angle_sum(0);
         assert!(total > TAU);
         let first = mesh.outgoing(0).next().unwrap();
-        let shadow = Shadow::of(&mesh, 0, Arrival::Edge { half_edge: first }, &tol()).unwrap();
+        let shadow = Shadow::of(&mesh, 0, Arrival::along(first), &tol()).unwrap();
         // The sector starts π (less the margin) from the arrival and is
         // Θ − 2π (plus two margins) wide.
         let m = tol().shadow_angle;
@@ -232,7 +282,8 @@ mod tests {
         for h in mesh.outgoing(0) {
             let c = mesh.corner_angle(h);
             if let Some((a, b)) = shadow.corner_part(fan, c) {
-                assert!(0.0 <= a && a <= b && b <= c);
+                let b = b.min(c);
+                assert!(0.0 <= a && a <= b);
                 lit += b - a;
             }
             fan += c;
@@ -247,7 +298,7 @@ mod tests {
             end: 7.0,
             total: 6.5,
         };
-        assert_eq!(s.corner_part(5.5, 1.0), Some((0.5, 1.0)));
+        assert_eq!(s.corner_part(5.5, 1.0), Some((0.5, f64::INFINITY)));
         let (a, b) = s.corner_part(0.0, 1.0).unwrap();
         assert_eq!(a, 0.0);
         assert!((b - 0.5).abs() < 1e-15);
@@ -274,7 +325,7 @@ mod tests {
         let total = mesh.angle_sum(0);
         let m = tol().shadow_angle;
         for (at, offset) in [(0.0, 0.0), (mesh.length(h), mesh.corner_angle(g))] {
-            let s = Shadow::of(&mesh, 0, Arrival::Window { half_edge: h, at }, &tol()).unwrap();
+            let s = Shadow::of(&mesh, 0, Arrival::through_edge_of(h, at), &tol()).unwrap();
             let want = (fan + offset + PI - m).rem_euclid(total);
             assert!(
                 (s.start - want).abs() < 1e-12,
@@ -292,10 +343,7 @@ mod tests {
         let other = (0..mesh.half_edge_count() as u32)
             .find(|&h| mesh.tail(h) != 0)
             .unwrap();
-        assert_eq!(
-            Shadow::of(&mesh, 0, Arrival::Edge { half_edge: other }, &tol()),
-            None
-        );
+        assert_eq!(Shadow::of(&mesh, 0, Arrival::along(other), &tol()), None);
     }
 
     #[test]
@@ -303,12 +351,12 @@ mod tests {
         let mesh = saddle(6, 0.0);
         let h = mesh.outgoing(0).next().unwrap();
         let corner = mesh.corner_angle(h);
-        let (t, full) = pseudo_source_window(&mesh, h, 1.0, 0, None).unwrap();
+        let (t, full) = pseudo_source_window(&mesh, h, 1.0, 0, ALL_RAYS).unwrap();
         assert_eq!((full.b0, full.b1), (0.0, mesh.length(t)));
         // The middle third of the directions: a ray at ψ from v → a hits
         // the edge where the window's source sees it at that angle.
         let (psi0, psi1) = (corner / 3.0, 2.0 * corner / 3.0);
-        let (_, part) = pseudo_source_window(&mesh, h, 1.0, 0, Some((psi0, psi1))).unwrap();
+        let (_, part) = pseudo_source_window(&mesh, h, 1.0, 0, (psi0, psi1)).unwrap();
         assert!(0.0 < part.b0 && part.b0 < part.b1 && part.b1 < full.b1);
         let a = DVec2::new(mesh.length(t), 0.0); // head of the twin: vertex a
         let angle_to = |x: f64| {
@@ -318,6 +366,6 @@ mod tests {
         assert!((angle_to(part.b1) - psi0).abs() < 1e-12);
         assert!((angle_to(part.b0) - psi1).abs() < 1e-12);
         // Rays outside the corner's range light nothing.
-        assert!(pseudo_source_window(&mesh, h, 1.0, 0, Some((corner, corner))).is_none());
+        assert!(pseudo_source_window(&mesh, h, 1.0, 0, (corner, corner)).is_none());
     }
 }
