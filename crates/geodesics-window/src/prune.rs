@@ -520,10 +520,33 @@ fn tie_sliver(w0: &Window, w1: &Window) -> f64 {
     4.0 * TIE_GAP * w0.width().max(w1.width())
 }
 
-/// Whether two windows on one edge overlap by more than a tie sliver.
+/// How much of an edge two windows on it share (negative: the gap between
+/// them).
 #[inline]
-fn overlap_beyond_sliver(w0: &Window, w1: &Window) -> bool {
-    w0.b1.min(w1.b1) - w0.b0.max(w1.b0) > tie_sliver(w0, w1)
+fn shared_width(w0: &Window, w1: &Window) -> f64 {
+    w0.b1.min(w1.b1) - w0.b0.max(w1.b0)
+}
+
+/// Part of the narrower window that two windows must share before the
+/// sorted merge compares them.
+const WORTH_COMPARING: f64 = 0.5;
+
+/// Whether the sorted merge leaves two partly overlapping windows (sharing
+/// `shared > 0`) to both without comparing them: they share less than half
+/// of the narrower one.
+///
+/// Such a comparison can at best trim the part they share. On bunny.off
+/// 92 % of the merge's comparisons were of this kind and settled nothing:
+/// the two windows tie at one end of what they share (the children of two
+/// windows trimmed at their tie point, a window passing a saddle vertex
+/// and the vertex's own window) or cross near an end. Leaving it to both
+/// discards nothing, so it is always sound: on bunny.off, armadillo.obj and
+/// the Loop×1 bunny it costs 0.6–1.2 % more propagations and saves a
+/// quarter of the time; leaving every partial overlap to both (a factor of
+/// 1) costs 47 % more propagations.
+#[inline]
+fn not_worth_comparing(w0: &Window, w1: &Window, shared: f64) -> bool {
+    shared <= WORTH_COMPARING * w0.width().min(w1.width())
 }
 
 /// The one point of `(c0, c1)` where two windows give equal distances, or
@@ -674,11 +697,13 @@ pub struct MergeBuffers {
 /// pass, checking each window against the windows before it that it
 /// overlaps, and the nearest one it does not (Cases 3 and 6), trimming
 /// and splitting as [`prune_adjacent_splitting`]. Two windows that were
-/// both in `list` are not compared again.
+/// both in `list` are not compared again, nor two that share less than
+/// half of the narrower one (see `not_worth_comparing`: both keep that
+/// part).
 ///
 /// Compared with the order-free merge ([`merge_behind`]), a window meets
-/// every window it overlaps, not just the one it happens to follow, so
-/// fewer redundant windows survive.
+/// every window it overlaps substantially, not just the one it happens to
+/// follow, so fewer redundant windows survive.
 pub fn merge_sorted(
     list: &mut Vec<EndedWindow>,
     incoming: &mut [EndedWindow],
@@ -791,7 +816,13 @@ fn push_checked(
     let mut nearest = true;
     while k > 0 {
         k -= 1;
-        let overlaps = overlap_beyond_sliver(&out[k].window, &w.window);
+        let shared = shared_width(&out[k].window, &w.window);
+        let overlaps = shared > tie_sliver(&out[k].window, &w.window);
+        if overlaps && not_worth_comparing(&out[k].window, &w.window, shared) {
+            // What lies before overlaps `w` less still, as for a window
+            // that does not overlap it at all.
+            break;
+        }
         if !overlaps && !nearest {
             break;
         }
@@ -1185,6 +1216,25 @@ mod tests {
         // window is checked and dropped.
         let mut list = vec![EndedWindow::new(win(0.0, 1.0, (0.5, -1.0), 0.0))];
         merge_sorted(&mut list, &mut [w], &mut buffers, &t);
+        assert_eq!(starts(&list), vec![(0.0, 1.0)]);
+    }
+
+    #[test]
+    fn merge_sorted_compares_windows_sharing_at_least_half_the_narrower() {
+        let t = tol();
+        let mut buffers = MergeBuffers::default();
+        let good = EndedWindow::new(win(0.0, 1.0, (0.5, -1.0), 0.0));
+        // Far worse everywhere (σ = 5): sharing 0.1 of its 1.1 with `good`,
+        // it is not compared with it and stays whole.
+        let sliver = EndedWindow::new(win(0.9, 2.0, (1.5, -1.0), 5.0));
+        let mut list = vec![good];
+        merge_sorted(&mut list, &mut [sliver], &mut buffers, &t);
+        assert_eq!(starts(&list), vec![(0.0, 1.0), (0.9, 2.0)]);
+        // Sharing 0.6 of its 0.8, it is: it loses what it shares, and
+        // walking along the edge from `good`'s end beats the rest (Case 3).
+        let half = EndedWindow::new(win(0.4, 1.2, (1.5, -1.0), 5.0));
+        let mut list = vec![good];
+        merge_sorted(&mut list, &mut [half], &mut buffers, &t);
         assert_eq!(starts(&list), vec![(0.0, 1.0)]);
     }
 
