@@ -118,6 +118,67 @@ fn open_square_has_one_boundary_loop() {
     assert!((mesh.angle_sum(0) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
 }
 
+/// A 4×4-vertex grid of triangles with one corner cut off: interior and
+/// boundary vertices, faces numbered in no particular order around them.
+fn grid_mesh() -> Mesh {
+    let n = 4u32;
+    let mut positions = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            positions.push([i as f64, j as f64, 0.1 * ((i * j) % 3) as f64]);
+        }
+    }
+    let mut triangles = Vec::new();
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let (a, b, c, d) = (
+                j * n + i,
+                j * n + i + 1,
+                (j + 1) * n + i + 1,
+                (j + 1) * n + i,
+            );
+            if (i, j) != (n - 2, n - 2) {
+                triangles.push([a, b, c]);
+            }
+            triangles.push([a, c, d]);
+        }
+    }
+    // Scramble the face order.
+    triangles.reverse();
+    triangles.swap(0, 7);
+    build(&positions, &triangles).unwrap()
+}
+
+#[test]
+fn fans_run_counter_clockwise_from_the_boundary() {
+    let mesh = grid_mesh();
+    let nh = mesh.half_edge_count() as u32;
+    for v in 0..mesh.vertex_count() as u32 {
+        let around: Vec<u32> = mesh.outgoing(v).collect();
+        // Every half-edge leaving v, once.
+        let mut leaving: Vec<u32> = (0..nh).filter(|&h| mesh.tail(h) == v).collect();
+        let mut sorted = around.clone();
+        sorted.sort_unstable();
+        leaving.sort_unstable();
+        assert_eq!(sorted, leaving, "vertex {v}");
+        // Each the twin of the half-edge before the previous one.
+        for w in around.windows(2) {
+            assert_eq!(mesh.twin(Mesh::prev(w[0])), Some(w[1]), "vertex {v}");
+        }
+        // A boundary fan starts at the boundary edge leaving v and ends at
+        // the face whose incoming edge is the other boundary edge.
+        if mesh.is_boundary(v) {
+            assert_eq!(mesh.twin(around[0]), None, "vertex {v}");
+            assert_eq!(mesh.twin(Mesh::prev(*around.last().unwrap())), None);
+        } else {
+            let last = *around.last().unwrap();
+            assert_eq!(mesh.twin(Mesh::prev(last)), Some(around[0]), "vertex {v}");
+        }
+        assert_eq!(mesh.outgoing(v).count(), around.len());
+        assert_eq!(mesh.vertex_half_edge(v), around.first().copied());
+    }
+}
+
 #[test]
 fn unreferenced_vertices_are_kept_and_counted() {
     let mut p = SQUARE_P.to_vec();
