@@ -19,7 +19,16 @@
 //! the worker's own output buffer). Which thread runs which job never
 //! changes a result: the jobs of one phase are independent and their
 //! outputs are applied in job order.
+//!
+//! A panic in a job (an invariant broken) must not leave the others
+//! waiting: a helper's panic is caught, recorded, and raised again on the
+//! driving thread when it waits for the phase ([`Crew::wait_completed`]);
+//! if the driving thread unwinds, the guard of [`Crew::stop_on_drop`]
+//! stops the helpers, so the rayon scope around them returns and passes
+//! the panic on, as a fork/join would.
 
+use std::any::Any;
+use std::panic::{self, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
 use std::thread::{self, Thread};
@@ -50,6 +59,9 @@ pub(crate) struct Crew {
     completed: Padded<AtomicUsize>,
     /// Set once, when the solve is over: helpers return.
     stop: AtomicBool,
+    /// The payload of a helper's panic, raised again by the driving thread.
+    failure: Mutex<Option<Box<dyn Any + Send>>>,
+    failed: AtomicBool,
     /// Helpers parked (or about to park) waiting for a phase.
     parked: AtomicUsize,
     sleepers: Mutex<Vec<Thread>>,
@@ -90,6 +102,8 @@ impl Crew {
             queues: (0..workers.max(1)).map(|_| Padded::default()).collect(),
             completed: Padded::default(),
             stop: AtomicBool::new(false),
+            failure: Mutex::new(None),
+            failed: AtomicBool::new(false),
             parked: AtomicUsize::new(0),
             sleepers: Mutex::new(Vec::new()),
         }
@@ -139,11 +153,34 @@ impl Crew {
         }
     }
 
-    /// Waits until all `n` jobs of the phase are finished.
+    /// Waits until all `n` jobs of the phase are finished; raises again
+    /// the panic of a helper that failed instead.
     pub(crate) fn wait_completed(&self, n: usize) {
         let mut waiting = Waiting::new();
         while self.completed.0.load(Ordering::Acquire) < n {
+            if self.failed.load(Ordering::Acquire) {
+                let payload = self
+                    .failure
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .take();
+                panic::resume_unwind(payload.unwrap_or_else(|| Box::new("a crew helper panicked")));
+            }
             waiting.pause();
+        }
+    }
+
+    /// A helper's share of a phase: `work` returns how many jobs it ran,
+    /// `None` if it panicked (recorded for the driving thread; the helper
+    /// should return).
+    pub(crate) fn guarded(&self, work: impl FnOnce() -> usize) -> Option<usize> {
+        match panic::catch_unwind(AssertUnwindSafe(work)) {
+            Ok(done) => Some(done),
+            Err(payload) => {
+                *self.failure.lock().unwrap_or_else(PoisonError::into_inner) = Some(payload);
+                self.failed.store(true, Ordering::Release);
+                None
+            }
         }
     }
 
@@ -151,6 +188,12 @@ impl Crew {
     pub(crate) fn stop(&self) {
         self.stop.store(true, Ordering::SeqCst);
         self.publish();
+    }
+
+    /// A guard that ends the solve when dropped, also when the driving
+    /// thread unwinds.
+    pub(crate) fn stop_on_drop(&self) -> StopOnDrop<'_> {
+        StopOnDrop(self)
     }
 
     /// A helper's wait for the phase after epoch `seen`: `false` once the
@@ -181,6 +224,15 @@ impl Crew {
             }
             waiting = Waiting::new();
         }
+    }
+}
+
+/// Stops the crew when dropped (see [`Crew::stop_on_drop`]).
+pub(crate) struct StopOnDrop<'a>(&'a Crew);
+
+impl Drop for StopOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.stop();
     }
 }
 
@@ -270,6 +322,40 @@ mod tests {
         assert_eq!(crew.claim(1), Some(3));
         assert_eq!(crew.claim(1), None);
         assert_eq!(crew.claim(0), None);
+    }
+
+    #[test]
+    fn a_helper_panic_reaches_the_driving_thread_instead_of_a_hang() {
+        let crew = Crew::new(2);
+        let outcome = panic::catch_unwind(AssertUnwindSafe(|| {
+            thread::scope(|s| {
+                s.spawn(|| {
+                    let mut seen = 0;
+                    while crew.wait_phase(&mut seen) {
+                        let Some(done) = crew.guarded(|| {
+                            assert!(crew.claim(1).is_none(), "job 1 is broken");
+                            0
+                        }) else {
+                            return;
+                        };
+                        crew.complete(done);
+                    }
+                });
+                let _stop = crew.stop_on_drop();
+                // Job 1 is the helper's and panics there; job 0 is ours.
+                crew.begin(&[(0, 1), (1, 2)]);
+                crew.publish();
+                assert_eq!(crew.claim(0), Some(0));
+                crew.complete(1);
+                crew.wait_completed(2);
+            });
+        }));
+        let payload = outcome.expect_err("the helper's panic is raised again");
+        let message = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied());
+        assert_eq!(message, Some("job 1 is broken"));
     }
 
     #[test]

@@ -342,9 +342,14 @@ impl Worker {
 fn helper(i: usize, state: &RwLock<Solver<'_>>, workers: &[Mutex<Worker>], crew: &Crew) {
     let mut seen = 0;
     while crew.wait_phase(&mut seen) {
-        let solver = read(state);
-        let done = lock(&workers[i]).work(&solver.shared(), crew);
-        drop(solver);
+        // Lock order: the state (shared) before the worker. The driving
+        // thread takes every worker while it holds the state exclusively.
+        let Some(done) = crew.guarded(|| {
+            let solver = read(state);
+            lock(&workers[i]).work(&solver.shared(), crew)
+        }) else {
+            return; // the driving thread raises the panic
+        };
         crew.complete(done);
     }
 }
@@ -957,8 +962,8 @@ impl<'a> Solver<'a> {
                 let (state, workers, crew) = (&state, &workers[..], &crew);
                 scope.spawn(move |_| helper(i, state, workers, crew));
             }
+            let _stop = crew.stop_on_drop();
             Solver::drive(&state, &workers, &crew);
-            crew.stop();
         });
         state.into_inner().unwrap_or_else(PoisonError::into_inner)
     }
