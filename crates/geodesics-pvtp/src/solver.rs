@@ -47,6 +47,8 @@ use geodesics_window::{
 };
 use glam::DVec2;
 
+use rayon::prelude::*;
+
 use crate::buckets::Buckets;
 use crate::crew::Crew;
 use crate::{PvtpError, PvtpOptions};
@@ -1333,8 +1335,12 @@ fn face_owners(mesh: &Mesh, workers: usize) -> Vec<u32> {
     } else {
         1.0
     };
-    mesh.faces()
-        .map(|[a, b, c]| {
+    // On the solve's pool (it only runs for several threads): one pass over
+    // every face's positions is a sixth of the setup.
+    (0..mesh.face_count() as u32)
+        .into_par_iter()
+        .map(|f| {
+            let [a, b, c] = mesh.face(f);
             let centroid = (mesh.position(a) + mesh.position(b) + mesh.position(c)) / 3.0;
             let k = (centroid * inv).floor();
             // `as` saturates; the mixing constants are odd 64-bit numbers.
