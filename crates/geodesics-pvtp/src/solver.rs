@@ -42,8 +42,9 @@ use geodesics_window::prune::{
     MergeBuffers, merge_sorted, one_angle_two_sides, vertex_check_ended,
 };
 use geodesics_window::{
-    Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Shadow, SolverSetup, Source, Stats,
-    Tolerance, Triangle, VertexState, WindowReset, pseudo_source_window, seeds, validate_sources,
+    ALL_RAYS, Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Shadow, SolverSetup,
+    Source, Stats, Tolerance, Triangle, VertexState, WindowReset, pseudo_source_window, seeds,
+    validate_sources,
 };
 use glam::DVec2;
 
@@ -1155,26 +1156,29 @@ impl<'a> Solver<'a> {
         x.emitted = d;
         self.stats.pseudo_source_emissions += 1;
         let fan = self.fan_start[vi] as usize..self.fan_start[vi + 1] as usize;
-        let total = self.mesh.angle_sum(v);
-        let shadow = if x.shadowed {
-            self.arrival[vi]
-                .direction(self.mesh)
-                .and_then(|(g, offset)| {
-                    let k = fan.clone().find(|&k| self.fan[k] == g)?;
-                    Shadow::around(total, self.fan_angle[k] + offset, &self.tol)
-                })
-        } else {
-            None
-        };
+        let shadowed = x.shadowed;
+        let shadow = shadowed
+            .then(|| {
+                let total = self.mesh.angle_sum(v);
+                let (g, offset) = self.arrival[vi].direction(self.mesh)?;
+                let k = fan.clone().find(|&k| self.fan[k] == g)?;
+                Shadow::around(total, self.fan_angle[k] + offset, &self.tol).map(|s| (s, total))
+            })
+            .flatten();
         for k in fan.clone() {
-            // A corner ends where the next begins (the last at the sum).
-            let next = if k + 1 < fan.end {
-                self.fan_angle[k + 1]
-            } else {
-                total
+            let rays = match shadow {
+                None => Some(ALL_RAYS),
+                Some((shadow, total)) => {
+                    // A corner ends where the next begins (the last at
+                    // the angle sum).
+                    let next = if k + 1 < fan.end {
+                        self.fan_angle[k + 1]
+                    } else {
+                        total
+                    };
+                    shadow.corner_part(self.fan_angle[k], next - self.fan_angle[k])
+                }
             };
-            let corner = next - self.fan_angle[k];
-            let rays = Shadow::rays(shadow.as_ref(), self.fan_angle[k], corner);
             self.emit_corner(self.fan[k], d, s, rays);
         }
         fan.len()

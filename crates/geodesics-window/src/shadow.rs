@@ -142,7 +142,10 @@ impl Shadow {
         if !(width < total) {
             return None;
         }
-        let start = (arrival + PI - margin).rem_euclid(total);
+        // `arrival` lies in [0, total) and total > π, so one turn back
+        // at most brings the start into [0, total) (no `fmod`).
+        let start = arrival + PI - margin;
+        let start = if start >= total { start - total } else { start };
         Some(Shadow {
             start,
             end: start + width,
