@@ -469,7 +469,8 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
     for e in 0..3 {
         if !s.beyond[e].is_empty() {
             let mut windows = std::mem::take(&mut s.beyond[e]);
-            append_beyond(sh, f, e, &mut windows, s, out);
+            let ends = [corners[e], corners[(e + 1) % 3]];
+            append_beyond(sh, f, e, ends, &mut windows, s, out);
             windows.clear();
             s.beyond[e] = windows;
         }
@@ -477,12 +478,15 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
 }
 
 /// Merges `windows` into the list beyond edge `3f + e` (the twin's main
-/// list, or its side list if the main one is taken in this phase).
+/// list, or its side list if the main one is taken in this phase). `ends`
+/// are the edge's vertices (the twin's, reversed), known to the job: read
+/// from the twin's record they would cost a cache miss.
 #[inline]
 fn append_beyond(
     sh: &Shared<'_>,
     f: u32,
     e: usize,
+    ends: [u32; 2],
     windows: &mut [EndedWindow],
     s: &mut Scratch,
     out: &mut JobOut,
@@ -511,8 +515,7 @@ fn append_beyond(
         s.free.push(idx);
     }
     out.grown += after as i64 - before as i64;
-    let mesh = sh.mesh;
-    let queue = sh.verts[mesh.tail(t) as usize].inside || sh.verts[mesh.head(t) as usize].inside;
+    let queue = sh.verts[ends[0] as usize].inside || sh.verts[ends[1] as usize].inside;
     out.targets[e] = (
         t,
         TOUCHED | if to_side { TO_SIDE } else { 0 } | if queue { QUEUE } else { 0 },

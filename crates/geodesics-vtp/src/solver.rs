@@ -196,7 +196,8 @@ impl<'a> Solver<'a> {
         }
         for &(t, w) in &seeds.windows {
             self.stats.windows_created += 1;
-            self.append(t, &mut [EndedWindow::new(w)]);
+            let ends = [self.mesh.tail(t), self.mesh.head(t)];
+            self.append(t, ends, &mut [EndedWindow::new(w)]);
         }
     }
 
@@ -484,7 +485,8 @@ impl<'a> Solver<'a> {
                 continue;
             };
             self.stats.windows_created += 1;
-            self.append(t, &mut [EndedWindow::new(w)]);
+            // The edge opposite v runs from a to b.
+            self.append(t, [a, b], &mut [EndedWindow::new(w)]);
         }
     }
 
@@ -501,7 +503,11 @@ impl<'a> Solver<'a> {
     /// (Rule 2 within one propagated list, Rule 3 / order-free secondary
     /// merge against what the list already holds). The sorted merge sorts
     /// `windows` in place.
-    fn append(&mut self, h: u32, windows: &mut [EndedWindow]) {
+    ///
+    /// `ends` are the two vertices of `h`'s edge (in either order): the
+    /// callers know them, and reading them from `h`'s record would cost a
+    /// cache miss per append (the face beyond is usually not in cache).
+    fn append(&mut self, h: u32, ends: [u32; 2], windows: &mut [EndedWindow]) {
         if windows.is_empty() {
             return;
         }
@@ -573,10 +579,10 @@ impl<'a> Solver<'a> {
         }
         match self.options.schedule {
             Schedule::VertexSorted => {
-                let mesh = self.mesh;
-                if self.verts[mesh.tail(h) as usize].inside
-                    || self.verts[mesh.head(h) as usize].inside
-                {
+                debug_assert!(
+                    ends.contains(&self.mesh.tail(h)) && ends.contains(&self.mesh.head(h))
+                );
+                if self.verts[ends[0] as usize].inside || self.verts[ends[1] as usize].inside {
                     self.enqueue(h);
                 }
             }
@@ -632,7 +638,7 @@ impl<'a> Solver<'a> {
                         Mesh::prev(h)
                     };
                     if let Some(t) = mesh.twin(other) {
-                        self.append(t, &mut list[..]);
+                        self.append(t, [mesh.tail(t), mesh.head(t)], &mut list[..]);
                     }
                 }
             }
@@ -765,11 +771,12 @@ impl<'a> Solver<'a> {
         if self.timing {
             self.merge_start = Some(Instant::now());
         }
+        // Beyond C → A and beyond B → C.
         if let Some(t) = mesh.twin(p) {
-            self.append(t, &mut left);
+            self.append(t, [c, a], &mut left);
         }
         if let Some(t) = mesh.twin(n) {
-            self.append(t, &mut right);
+            self.append(t, [b, c], &mut right);
         }
         self.left = left;
         self.right = right;
