@@ -47,7 +47,6 @@ use geodesics_window::{
     validate_sources,
 };
 use glam::DVec2;
-
 use rayon::prelude::*;
 
 use crate::buckets::Buckets;
