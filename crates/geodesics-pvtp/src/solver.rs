@@ -644,11 +644,10 @@ pub(crate) struct Solver<'a> {
     faces: Vec<FaceRec>,
     /// Per vertex `v`: its outgoing half-edges are
     /// `fan[fan_start[v]..fan_start[v + 1]]` (one per face around it),
-    /// counter-clockwise as [`Mesh::outgoing`], and the angle of each
-    /// around `v` from the first ([`Shadow`]'s angle coordinate).
+    /// counter-clockwise as [`Mesh::outgoing`] (so corner angles summed
+    /// along it give [`Shadow`]'s angle coordinate).
     fan_start: Vec<u32>,
     fan: Vec<u32>,
-    fan_angle: Vec<f64>,
     /// Jobs of the next phase, in scheduling order.
     pending: Vec<JobIn>,
     /// Jobs of the running phase.
@@ -721,13 +720,9 @@ impl<'a> Solver<'a> {
         // One walk around each vertex here, so that emitting reads the
         // fan from contiguous memory instead of chasing twins.
         let mut fan = vec![0u32; nh];
-        let mut fan_angle = vec![0.0; nh];
         for (v, &start) in fan_start[..nv].iter().enumerate() {
-            let mut angle = 0.0;
             for (k, h) in (start as usize..).zip(mesh.outgoing(v as u32)) {
                 fan[k] = h;
-                fan_angle[k] = angle;
-                angle += mesh.corner_angle(h);
             }
         }
         Solver {
@@ -757,7 +752,6 @@ impl<'a> Solver<'a> {
             ],
             fan_start,
             fan,
-            fan_angle,
             pending: Vec::new(),
             current: Vec::new(),
             pending_emissions: Vec::new(),
@@ -1157,33 +1151,35 @@ impl<'a> Solver<'a> {
         let (d, s) = (x.dist, x.src);
         x.emitted = d;
         self.stats.pseudo_source_emissions += 1;
-        let fan = self.fan_start[vi] as usize..self.fan_start[vi + 1] as usize;
-        let shadowed = x.shadowed;
-        let shadow = shadowed
-            .then(|| {
-                let total = self.mesh.angle_sum(v);
-                let (g, offset) = self.arrival[vi].direction(self.mesh)?;
-                let k = fan.clone().find(|&k| self.fan[k] == g)?;
-                Shadow::around(total, self.fan_angle[k] + offset, &self.tol).map(|s| (s, total))
+        let (a, b) = (self.fan_start[vi] as usize, self.fan_start[vi + 1] as usize);
+        let mesh = self.mesh;
+        // The corner angles along the fan: independent loads, no walk.
+        let shadow = if x.shadowed {
+            self.arrival[vi].direction(mesh).and_then(|(g, offset)| {
+                let before = self.fan[a..b].iter().position(|&h| h == g)?;
+                let fan_angle: f64 = self.fan[a..a + before]
+                    .iter()
+                    .map(|&h| mesh.corner_angle(h))
+                    .sum();
+                Shadow::around(mesh.angle_sum(v), fan_angle + offset, &self.tol)
             })
-            .flatten();
-        for k in fan.clone() {
+        } else {
+            None
+        };
+        let mut fan_angle = 0.0;
+        for k in a..b {
+            let h = self.fan[k];
             let rays = match shadow {
                 None => Some(ALL_RAYS),
-                Some((shadow, total)) => {
-                    // A corner ends where the next begins (the last at
-                    // the angle sum).
-                    let next = if k + 1 < fan.end {
-                        self.fan_angle[k + 1]
-                    } else {
-                        total
-                    };
-                    shadow.corner_part(self.fan_angle[k], next - self.fan_angle[k])
+                Some(shadow) => {
+                    let (start, corner) = (fan_angle, mesh.corner_angle(h));
+                    fan_angle += corner;
+                    shadow.corner_part(start, corner)
                 }
             };
-            self.emit_corner(self.fan[k], d, s, rays);
+            self.emit_corner(h, d, s, rays);
         }
-        fan.len()
+        b - a
     }
 
     /// The emission of the corner at the tail of `h` (see [`Emission`]),
