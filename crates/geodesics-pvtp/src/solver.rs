@@ -408,10 +408,12 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         // half-edge before `h` along that half-edge.
         let h = 3 * f + j as u32;
         let p = Mesh::prev(h);
-        let to_head = mesh.twin(h).map_or(Arrival::Unknown, Arrival::along);
+        let to_head = mesh
+            .twin(h)
+            .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
         for (k, len, arrival) in [
             ((j + 1) % 3, mesh.length(h), to_head),
-            ((j + 2) % 3, mesh.length(p), Arrival::along(p)),
+            ((j + 2) % 3, mesh.length(p), Arrival::Edge { half_edge: p }),
         ] {
             let dk = e.sigma + len;
             if dk < d[k] {
@@ -581,7 +583,10 @@ fn cross(
     }
     if best < d[ic] {
         d[ic] = best;
-        let arrival = Arrival::through_edge_of(h, info[k].1);
+        let arrival = Arrival::Window {
+            half_edge: h,
+            at: info[k].1,
+        };
         out.push_update(mesh.tail(p), best, list[k].window.source, arrival);
     }
     let sp_s = info.get(k).map_or(0.0, |x| x.1);

@@ -192,7 +192,7 @@ impl<'a> Solver<'a> {
             self.force_pseudo(v);
         }
         for &(v, d) in &seeds.distances {
-            self.relax(v, d, i, Arrival::default, || Provenance::Source(i));
+            self.relax(v, d, i, Arrival::Unknown, || Provenance::Source(i));
         }
         for &(t, w) in &seeds.windows {
             self.stats.windows_created += 1;
@@ -219,22 +219,22 @@ impl<'a> Solver<'a> {
     // ------------------------------------------------------------ distances
 
     /// Lowers the distance of `v` (and its pinch copies) to `d` if shorter,
-    /// by a path arriving as `arrival` says; `arrival` (for a vertex that
-    /// emits into its shadow) and `how` are asked only then. The test is
-    /// inlined at every call site: most candidates lose.
+    /// by a path arriving as `arrival` says (kept for a vertex that emits
+    /// into its shadow); `how` is asked only then. The test is inlined at
+    /// every call site: most candidates lose.
     #[inline(always)]
     fn relax(
         &mut self,
         v: u32,
         d: f64,
         s: u32,
-        arrival: impl FnOnce() -> Arrival,
+        arrival: Arrival,
         how: impl FnOnce() -> Provenance,
     ) {
         let x = &self.verts[v as usize];
         if d < x.dist {
             if x.shadowed {
-                self.arrival[v as usize] = arrival();
+                self.arrival[v as usize] = arrival;
             }
             self.lower(v, d, s, how());
         }
@@ -460,21 +460,19 @@ impl<'a> Solver<'a> {
             let p = Mesh::prev(h);
             let b = mesh.tail(p);
             let (la, lb) = (mesh.length(h), mesh.length(p));
-            let back_to_v = || mesh.twin(h).map_or(Arrival::Unknown, Arrival::along);
+            // a comes back to v along the twin of h, b along p.
+            let back_to_v = mesh
+                .twin(h)
+                .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
             self.relax(a, d + la, s, back_to_v, || Provenance::Vertex {
                 from: v,
                 length: la,
             });
-            self.relax(
-                b,
-                d + lb,
-                s,
-                || Arrival::along(p),
-                || Provenance::Vertex {
-                    from: v,
-                    length: lb,
-                },
-            );
+            let along = Arrival::Edge { half_edge: p };
+            self.relax(b, d + lb, s, along, || Provenance::Vertex {
+                from: v,
+                length: lb,
+            });
             let corner = mesh.corner_angle(h);
             let rays = Shadow::rays(shadow.as_ref(), fan_angle, corner);
             fan_angle += corner;
@@ -701,7 +699,10 @@ impl<'a> Solver<'a> {
         if best.is_finite() {
             let w = list[s].window;
             let bend = info[s].1;
-            let arrival = || Arrival::through_edge_of(h, bend);
+            let arrival = Arrival::Window {
+                half_edge: h,
+                at: bend,
+            };
             self.relax(c, best, w.source, arrival, || Provenance::Window {
                 half_edge: h,
                 pseudo_source: w.p,

@@ -61,20 +61,6 @@ pub enum Arrival {
 }
 
 impl Arrival {
-    /// A path straight through the edge of `h` (whose face has the vertex
-    /// as its apex), crossing it at `at` (in `h`'s frame).
-    #[inline]
-    pub fn through_edge_of(h: u32, at: f64) -> Arrival {
-        Arrival::Window { half_edge: h, at }
-    }
-
-    /// A path along the edge of `g`, an outgoing half-edge of the vertex,
-    /// from its head.
-    #[inline]
-    pub fn along(g: u32) -> Arrival {
-        Arrival::Edge { half_edge: g }
-    }
-
     /// The direction the path arrives from, as `(g, offset)`: the angle
     /// `offset` counter-clockwise from the outgoing half-edge `g` of the
     /// vertex, within `g`'s corner. `None` when unknown.
@@ -270,7 +256,7 @@ mod tests {
         let total = mesh.angle_sum(0);
         assert!(total > TAU);
         let first = mesh.outgoing(0).next().unwrap();
-        let shadow = Shadow::of(&mesh, 0, Arrival::along(first), &tol()).unwrap();
+        let shadow = Shadow::of(&mesh, 0, Arrival::Edge { half_edge: first }, &tol()).unwrap();
         // The sector starts π (less the margin) from the arrival and is
         // Θ − 2π (plus two margins) wide.
         let m = tol().shadow_angle;
@@ -328,7 +314,7 @@ mod tests {
         let total = mesh.angle_sum(0);
         let m = tol().shadow_angle;
         for (at, offset) in [(0.0, 0.0), (mesh.length(h), mesh.corner_angle(g))] {
-            let s = Shadow::of(&mesh, 0, Arrival::through_edge_of(h, at), &tol()).unwrap();
+            let s = Shadow::of(&mesh, 0, Arrival::Window { half_edge: h, at }, &tol()).unwrap();
             let want = (fan + offset + PI - m).rem_euclid(total);
             assert!(
                 (s.start - want).abs() < 1e-12,
@@ -346,7 +332,10 @@ mod tests {
         let other = (0..mesh.half_edge_count() as u32)
             .find(|&h| mesh.tail(h) != 0)
             .unwrap();
-        assert_eq!(Shadow::of(&mesh, 0, Arrival::along(other), &tol()), None);
+        assert_eq!(
+            Shadow::of(&mesh, 0, Arrival::Edge { half_edge: other }, &tol()),
+            None
+        );
     }
 
     #[test]
