@@ -42,9 +42,8 @@ use geodesics_window::prune::{
     MergeBuffers, merge_sorted, one_angle_two_sides, vertex_check_ended,
 };
 use geodesics_window::{
-    ALL_RAYS, Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Shadow, SolverSetup,
-    Source, Stats, Tolerance, Triangle, VertexState, WindowReset, pseudo_source_window, seeds,
-    validate_sources,
+    Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Shadow, SolverSetup, Source, Stats,
+    Tolerance, Triangle, VertexState, WindowReset, pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 use rayon::prelude::*;
@@ -1158,32 +1157,20 @@ impl<'a> Solver<'a> {
         self.stats.pseudo_source_emissions += 1;
         let (a, b) = (self.fan_start[vi] as usize, self.fan_start[vi + 1] as usize);
         let mesh = self.mesh;
-        // The corner angles along the fan: independent loads, no walk.
+        // The fan from the table, not by walking twins: the corner angles
+        // along it are independent loads. (Taken out of `self` for the
+        // loop, which writes the jobs; a pointer swap.)
+        let fan = std::mem::take(&mut self.fan);
+        let around = || fan[a..b].iter().copied();
         let shadow = if x.shadowed {
-            self.arrival[vi].direction(mesh).and_then(|(g, offset)| {
-                let before = self.fan[a..b].iter().position(|&h| h == g)?;
-                let fan_angle: f64 = self.fan[a..a + before]
-                    .iter()
-                    .map(|&h| mesh.corner_angle(h))
-                    .sum();
-                Shadow::around(mesh.angle_sum(v), fan_angle + offset, &self.tol)
-            })
+            Shadow::of_fan(mesh, v, around(), self.arrival[vi], &self.tol)
         } else {
             None
         };
-        let mut fan_angle = 0.0;
-        for k in a..b {
-            let h = self.fan[k];
-            let rays = match shadow {
-                None => Some(ALL_RAYS),
-                Some(shadow) => {
-                    let (start, corner) = (fan_angle, mesh.corner_angle(h));
-                    fan_angle += corner;
-                    shadow.corner_part(start, corner)
-                }
-            };
+        for (h, rays) in Shadow::fan_rays(shadow, mesh, around()) {
             self.emit_corner(h, d, s, rays);
         }
+        self.fan = fan;
         b - a
     }
 

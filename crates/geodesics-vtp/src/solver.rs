@@ -454,8 +454,7 @@ impl<'a> Solver<'a> {
             None
         };
         self.stats.pseudo_source_emissions += 1;
-        let mut fan_angle = 0.0;
-        for h in mesh.outgoing(v) {
+        for (h, rays) in Shadow::fan_rays(shadow, mesh, mesh.outgoing(v)) {
             let a = mesh.head(h);
             let p = Mesh::prev(h);
             let b = mesh.tail(p);
@@ -473,9 +472,6 @@ impl<'a> Solver<'a> {
                 from: v,
                 length: lb,
             });
-            let corner = mesh.corner_angle(h);
-            let rays = Shadow::rays(shadow.as_ref(), fan_angle, corner);
-            fan_angle += corner;
             if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
                 continue;
             }

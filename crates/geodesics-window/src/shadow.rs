@@ -100,29 +100,36 @@ impl Shadow {
     /// The shadow of interior vertex `v` (its faces all proper, its angle
     /// sum flat or above `2π`) reached by `arrival`; `None` when the vertex
     /// must emit everywhere (arrival unknown, or a sector covering the
-    /// whole fan). Walks the fan to place the arrival; a solver that keeps
-    /// its fans' angles uses [`Shadow::around`].
+    /// whole fan).
     pub fn of(mesh: &Mesh, v: u32, arrival: Arrival, tol: &Tolerance) -> Option<Shadow> {
+        Shadow::of_fan(mesh, v, mesh.outgoing(v), arrival, tol)
+    }
+
+    /// [`Shadow::of`] with the fan of `v` given: its outgoing half-edges
+    /// in the order of [`Mesh::outgoing`] (a solver that keeps its own copy
+    /// of the fans reads them from there instead of walking twins).
+    pub fn of_fan(
+        mesh: &Mesh,
+        v: u32,
+        fan: impl IntoIterator<Item = u32>,
+        arrival: Arrival,
+        tol: &Tolerance,
+    ) -> Option<Shadow> {
         let (g, offset) = arrival.direction(mesh)?;
         let mut fan_angle = 0.0;
-        let mut found = false;
-        for h in mesh.outgoing(v) {
+        for h in fan {
             if h == g {
-                found = true;
-                break;
+                return Shadow::around(mesh.angle_sum(v), fan_angle + offset, tol);
             }
             fan_angle += mesh.corner_angle(h);
         }
-        if !found {
-            return None;
-        }
-        Shadow::around(mesh.angle_sum(v), fan_angle + offset, tol)
+        None
     }
 
     /// The shadow of a vertex with angle sum `total` whose path arrives
     /// from the direction at angle `arrival` of its fan; `None` when the
     /// sector would cover the whole fan.
-    pub fn around(total: f64, arrival: f64, tol: &Tolerance) -> Option<Shadow> {
+    fn around(total: f64, arrival: f64, tol: &Tolerance) -> Option<Shadow> {
         let margin = tol.shadow_angle;
         let width = (total - TAU).max(0.0) + 2.0 * margin;
         if !(width < total) {
@@ -139,16 +146,29 @@ impl Shadow {
         })
     }
 
-    /// The rays a pseudo-source with shadow `shadow` (`None`: it emits
-    /// everywhere) emits into through its corner spanning
-    /// `[fan_angle, fan_angle + corner]`, for [`pseudo_source_window`]:
-    /// [`ALL_RAYS`] without a shadow, `None` when the corner lies outside it.
-    #[inline]
-    pub fn rays(shadow: Option<&Shadow>, fan_angle: f64, corner: f64) -> Option<(f64, f64)> {
-        match shadow {
-            None => Some(ALL_RAYS),
-            Some(s) => s.corner_part(fan_angle, corner),
-        }
+    /// Per corner of a pseudo-source's fan (its outgoing half-edges `fan`,
+    /// in the order of [`Mesh::outgoing`]): the half-edge and the rays the
+    /// vertex emits into through that corner, for
+    /// [`pseudo_source_window`]. Without a shadow every corner gives
+    /// [`ALL_RAYS`] (and no corner angle is read); with one, `None` for a
+    /// corner outside it.
+    pub fn fan_rays<'m>(
+        shadow: Option<Shadow>,
+        mesh: &'m Mesh,
+        fan: impl IntoIterator<Item = u32> + 'm,
+    ) -> impl Iterator<Item = (u32, Option<(f64, f64)>)> + 'm {
+        let mut fan_angle = 0.0;
+        fan.into_iter().map(move |h| {
+            let rays = match shadow {
+                None => Some(ALL_RAYS),
+                Some(s) => {
+                    let (start, corner) = (fan_angle, mesh.corner_angle(h));
+                    fan_angle += corner;
+                    s.corner_part(start, corner)
+                }
+            };
+            (h, rays)
+        })
     }
 
     /// The part of the corner spanning `[fan_angle, fan_angle + corner]`
