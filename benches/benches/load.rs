@@ -30,7 +30,14 @@ fn load(c: &mut Criterion) {
     group.bench_function("read+build/dragon.ply --weld", |b| {
         b.iter(|| {
             let soup = geodesics_io::read_mesh(&path).expect("real mesh reads");
-            Mesh::build(soup, &BuildOptions { weld: true }).expect("builds")
+            Mesh::build(
+                soup,
+                &BuildOptions {
+                    weld: true,
+                    reorder: true,
+                },
+            )
+            .expect("builds")
         })
     });
     group.finish();

@@ -65,7 +65,14 @@ pub fn read_distances(path: &Path) -> Vec<f64> {
 /// builder's message (tests only).
 pub fn load_mesh(path: &Path, weld: bool) -> Mesh {
     let soup = geodesics_io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
-    Mesh::build(soup, &BuildOptions { weld }).unwrap_or_else(|e| panic!("{e}"))
+    Mesh::build(
+        soup,
+        &BuildOptions {
+            weld,
+            reorder: true,
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// One mesh of the reference manifest (`reference/manifest.json`, or

@@ -72,7 +72,7 @@ fn check(
     let gdist_known_wrong = case.file.starts_with("dragon");
     let mesh = &case.mesh;
     let pinch: Vec<u32> = (0..mesh.input_vertex_count() as u32)
-        .filter(|&v| mesh.is_pinch(v))
+        .filter(|&v| mesh.is_pinch(mesh.mesh_vertex(v)))
         .collect();
     let pinch_fields: Vec<Vec<f64>> = pinch
         .iter()
@@ -297,7 +297,7 @@ fn cow_pinch_vertex() {
     };
     let mesh = load_mesh(&data.join("cow.obj"), false);
     let pinch: Vec<u32> = (0..mesh.input_vertex_count() as u32)
-        .filter(|&v| mesh.is_pinch(v))
+        .filter(|&v| mesh.is_pinch(mesh.mesh_vertex(v)))
         .collect();
     assert_eq!(pinch.len(), 1, "cow.obj has one pinch vertex");
     let p = pinch[0];

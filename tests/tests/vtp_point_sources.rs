@@ -38,8 +38,14 @@ fn own_reference_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/reference")
 }
 
+/// Renumbered as the CLI builds it: the sources below are named through
+/// the mesh's maps from the file's numbers.
 fn build(soup: IndexedTriangles) -> Mesh {
-    Mesh::build(soup, &BuildOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+    let options = BuildOptions {
+        reorder: true,
+        ..BuildOptions::default()
+    };
+    Mesh::build(soup, &options).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The refined copy of `soup` where `point` is a new last vertex, exactly
@@ -89,13 +95,15 @@ fn sources(mesh: &Mesh, soup: &IndexedTriangles, point: Point) -> Vec<(String, S
             face,
             barycentric: [b0, b1, b2],
         } => {
-            let f = face as u32;
+            let f = mesh.mesh_face(face as u32);
+            assert_eq!(mesh.input_face(f), face as u32);
             let [a, b, c] = soup.triangles[face];
+            let corners = mesh.face(f).map(|v| mesh.pinch_origin(v));
             let barycentric = if mesh.is_reoriented(f) {
-                assert_eq!(mesh.face(f), [a, c, b], "face {face} flipped");
+                assert_eq!(corners, [a, c, b], "face {face} flipped");
                 [b0, b2, b1]
             } else {
-                assert_eq!(mesh.face(f), [a, b, c], "face {face} kept");
+                assert_eq!(corners, [a, b, c], "face {face} kept");
                 [b0, b1, b2]
             };
             vec![(
@@ -108,8 +116,8 @@ fn sources(mesh: &Mesh, soup: &IndexedTriangles, point: Point) -> Vec<(String, S
         }
         Point::Edge { a, b, t } => {
             let h = mesh
-                .outgoing(a)
-                .find(|&h| mesh.head(h) == b)
+                .outgoing(mesh.mesh_vertex(a))
+                .find(|&h| mesh.pinch_origin(mesh.head(h)) == b)
                 .expect("half-edge a -> b");
             let tw = mesh.twin(h).expect("interior edge");
             let mut out = vec![

@@ -78,7 +78,7 @@ fn check(key: &str, synthetic: bool, filter: &dyn Fn(&str) -> bool) {
     };
     let (mesh, load_s) = (&case.mesh, case.load_seconds);
     let pinch: Vec<u32> = (0..mesh.input_vertex_count() as u32)
-        .filter(|&v| mesh.is_pinch(v))
+        .filter(|&v| mesh.is_pinch(mesh.mesh_vertex(v)))
         .collect();
     let pinch_fields: Vec<Vec<f64>> = pinch
         .iter()
@@ -144,7 +144,7 @@ fn check(key: &str, synthetic: bool, filter: &dyn Fn(&str) -> bool) {
                 // Shorter than gdist: accepted only with an independent
                 // proof, a path of that length walked straight across the
                 // faces (see `Proof`).
-                let u = proof.bound(i as u32);
+                let u = proof.bound(mesh.mesh_vertex(i as u32));
                 if u <= d + tol && u < r - tol {
                     proven_oracle_long += 1;
                     continue;

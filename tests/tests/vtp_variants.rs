@@ -33,8 +33,8 @@ fn check_mesh_with(key: &str, synthetic: bool, all_variants: bool) {
         .unwrap_or_else(|| panic!("{name} not in the manifest"));
     let (sources, max_finite) = (&file.sources, file.max_finite);
     let reference = file.distances();
-    let trusted = !key.starts_with("dragon")
-        && !(0..mesh.input_vertex_count() as u32).any(|v| mesh.is_pinch(v));
+    let trusted =
+        !key.starts_with("dragon") && !(0..mesh.vertex_count() as u32).any(|v| mesh.is_pinch(v));
     let vtp = solve(mesh, sources, &VtpOptions::default())
         .unwrap()
         .0

@@ -52,7 +52,13 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
     );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (name, soup) in cases {
-        let mesh = Mesh::build(soup, &BuildOptions::default())?;
+        let mesh = Mesh::build(
+            soup,
+            &BuildOptions {
+                reorder: true,
+                ..BuildOptions::default()
+            },
+        )?;
         // [VTP, AVTP λ0, PAVTP λ0, AVTP λ1, PAVTP λ1, ...]
         let mut algorithms = vec![Algorithm::default()];
         for lambda in LAMBDAS {

@@ -277,7 +277,13 @@ fn bench(runs: usize, large: bool) -> Result<()> {
         authors,
     } in cases
     {
-        let mesh = Mesh::build(soup, &BuildOptions::default())?;
+        let mesh = Mesh::build(
+            soup,
+            &BuildOptions {
+                reorder: true,
+                ..BuildOptions::default()
+            },
+        )?;
         let (s, _, st) = best_of(&mesh, &Algorithm::default(), runs)?;
         let (at, ap) = authors.map_or(("—".to_string(), "—".to_string()), |(t, p)| {
             (format!("{t:.3}"), p.to_string())
@@ -347,7 +353,14 @@ fn load(runs: usize) -> Result<()> {
             let soup = read(&path)?;
             read_s = read_s.min(t.elapsed().as_secs_f64());
             let t = Instant::now();
-            let mesh = Mesh::build(soup, &BuildOptions::default()).with_context(|| name.clone())?;
+            let mesh = Mesh::build(
+                soup,
+                &BuildOptions {
+                    reorder: true,
+                    ..BuildOptions::default()
+                },
+            )
+            .with_context(|| name.clone())?;
             build_s = build_s.min(t.elapsed().as_secs_f64());
             size = (mesh.input_vertex_count(), mesh.face_count());
         }

@@ -15,12 +15,21 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
             "bunny.off, Loop x1".to_string(),
             Mesh::build(
                 geodesics_shapes::loop_subdivide(&bunny, 1)?,
-                &BuildOptions::default(),
+                &BuildOptions {
+                    reorder: true,
+                    ..BuildOptions::default()
+                },
             )?,
         ),
         (
             "dragon.ply, welded".to_string(),
-            Mesh::build(read(&dir.join("dragon.ply"))?, &BuildOptions { weld: true })?,
+            Mesh::build(
+                read(&dir.join("dragon.ply"))?,
+                &BuildOptions {
+                    weld: true,
+                    reorder: true,
+                },
+            )?,
         ),
     ];
     if large {
@@ -28,7 +37,10 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
             "bunny.off, Loop x2".to_string(),
             Mesh::build(
                 geodesics_shapes::loop_subdivide(&bunny, 2)?,
-                &BuildOptions::default(),
+                &BuildOptions {
+                    reorder: true,
+                    ..BuildOptions::default()
+                },
             )?,
         ));
     }

@@ -181,7 +181,9 @@ fn parse_face_point(spec: &str, mesh: &Mesh) -> Result<Source> {
             mesh.face_count()
         );
     }
-    // Building may flip a face ([a,b,c] -> [a,c,b]) to orient the surface.
+    // The file's face number; building may renumber faces, and flip one
+    // ([a,b,c] -> [a,c,b]) to orient the surface.
+    let face = mesh.mesh_face(face);
     let barycentric = if mesh.is_reoriented(face) {
         [b0, b2, b1]
     } else {
@@ -202,7 +204,8 @@ fn parse_edge_point(spec: &str, mesh: &Mesh) -> Result<Source> {
         bail!("--source-edge `{spec}`: vertex out of range (the mesh has {n} vertices)");
     }
     // Search every half-edge leaving a fan of `a` (pinch vertices have several).
-    let fans = std::iter::once(a).chain(mesh.pinch_fans(a));
+    let first = mesh.mesh_vertex(a);
+    let fans = std::iter::once(first).chain(mesh.pinch_fans(first));
     for fan in fans {
         for h in mesh.outgoing(fan) {
             if mesh.pinch_origin(mesh.head(h)) == b {

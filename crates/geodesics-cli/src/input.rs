@@ -23,6 +23,12 @@ pub struct MeshArgs {
     /// Merge vertices with exactly equal positions before building topology.
     #[arg(long)]
     pub weld: bool,
+    /// Keep the file's vertex and face order in memory. By default the mesh
+    /// is renumbered internally so that neighbours sit close in memory
+    /// (faster on files whose order is scattered); every number the commands
+    /// read or print is the file's either way.
+    #[arg(long)]
+    pub keep_order: bool,
 }
 
 /// A loaded mesh with what it took to get it.
@@ -55,8 +61,11 @@ impl MeshArgs {
         };
         let load_seconds = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let mesh =
-            Mesh::build(soup, &BuildOptions { weld: self.weld }).with_context(|| name.clone())?;
+        let options = BuildOptions {
+            weld: self.weld,
+            reorder: !self.keep_order,
+        };
+        let mesh = Mesh::build(soup, &options).with_context(|| name.clone())?;
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(LoadedMesh {
             name,

@@ -40,7 +40,11 @@
 //!   `f`; faces are counter-clockwise seen from outside of a consistently
 //!   oriented component; [`Mesh::twin`] is `None` exactly on boundary.
 //! - Vertices `0..input_vertex_count()` keep the numbering of the input (after
-//!   welding, if asked); pinch-split copies are appended after them.
+//!   welding, if asked); pinch-split copies are appended after them. With
+//!   [`BuildOptions::reorder`] vertices and faces are renumbered for memory
+//!   locality instead: [`Mesh::pinch_origin`] and [`Mesh::mesh_vertex`]
+//!   translate vertices, [`Mesh::input_face`] and [`Mesh::mesh_face`] faces
+//!   (corners keep their order within a face).
 
 mod build;
 mod error;
@@ -85,8 +89,17 @@ pub struct Mesh {
     vertex_half_edge: Vec<u32>,
     /// Per vertex: lies on a boundary edge.
     boundary: Vec<bool>,
-    /// Per vertex: the input vertex it was split from (itself for most vertices).
+    /// Per vertex: the input vertex it belongs to (itself for most vertices
+    /// unless renumbered; a pinch copy's is the vertex it was split from).
     pinch_origin: Vec<u32>,
+    /// Per input vertex: its vertex here (the first fan of a pinch vertex);
+    /// empty when vertices keep the input's numbers.
+    mesh_vertex: Vec<u32>,
+    /// Per face: the input face it is; empty when faces keep the input's
+    /// order.
+    input_face: Vec<u32>,
+    /// Per input face: its face here; empty likewise.
+    mesh_face: Vec<u32>,
     /// Per vertex: the next fan of the same pinch vertex (a ring), `NONE` if manifold.
     pinch_ring: Vec<u32>,
     /// Per vertex: index of its connected component (edge-connected), `NONE` if unreferenced.
@@ -278,10 +291,54 @@ impl Mesh {
     }
 
     /// The input vertex that `v` belongs to: `v` itself unless `v` is a copy
-    /// made when splitting a pinch vertex into its fans.
+    /// made when splitting a pinch vertex into its fans, or the mesh was
+    /// renumbered ([`BuildOptions::reorder`]).
     #[inline]
     pub fn pinch_origin(&self, v: u32) -> u32 {
         self.pinch_origin[v as usize]
+    }
+
+    /// The vertex of this mesh that input vertex `input` became (for a
+    /// pinch vertex, its first fan; the others are [`Mesh::pinch_fans`]):
+    /// `input` itself unless the mesh was renumbered.
+    /// `input < input_vertex_count()`.
+    #[inline]
+    pub fn mesh_vertex(&self, input: u32) -> u32 {
+        if self.mesh_vertex.is_empty() {
+            input
+        } else {
+            self.mesh_vertex[input as usize]
+        }
+    }
+
+    /// The input face that face `f` of this mesh is (its corners possibly
+    /// flipped, see [`Mesh::is_reoriented`]): `f` itself unless the mesh was
+    /// renumbered.
+    #[inline]
+    pub fn input_face(&self, f: u32) -> u32 {
+        if self.input_face.is_empty() {
+            f
+        } else {
+            self.input_face[f as usize]
+        }
+    }
+
+    /// The face of this mesh that input face `input` became: `input`
+    /// itself unless the mesh was renumbered. `input < face_count()`.
+    #[inline]
+    pub fn mesh_face(&self, input: u32) -> u32 {
+        if self.mesh_face.is_empty() {
+            input
+        } else {
+            self.mesh_face[input as usize]
+        }
+    }
+
+    /// Whether a mesh vertex is the one [`Mesh::mesh_vertex`] gives for its
+    /// input vertex (every vertex but the further fans of pinch vertices).
+    #[inline]
+    pub fn is_primary(&self, v: u32) -> bool {
+        self.mesh_vertex(self.pinch_origin(v)) == v
     }
 
     /// Whether `v` is one fan of a non-manifold (pinch) vertex. The fans of one
@@ -358,11 +415,16 @@ impl Mesh {
     /// pinch copies mapped back to their input vertex): what writers of
     /// colored meshes need.
     pub fn to_indexed_triangles(&self) -> IndexedTriangles {
+        let input = self.input_vertex_count as u32;
         IndexedTriangles {
-            positions: self.positions[..self.input_vertex_count].to_vec(),
-            triangles: self
-                .faces()
-                .map(|f| f.map(|v| self.pinch_origin[v as usize]))
+            positions: (0..input)
+                .map(|u| self.position(self.mesh_vertex(u)))
+                .collect(),
+            triangles: (0..self.face_count() as u32)
+                .map(|u| {
+                    self.face(self.mesh_face(u))
+                        .map(|v| self.pinch_origin[v as usize])
+                })
                 .collect(),
         }
     }
@@ -370,9 +432,11 @@ impl Mesh {
     /// Folds per-vertex values of this mesh (pinch copies included) back onto
     /// the input vertices: each input vertex gets the minimum over its copies.
     pub fn fold_to_input<T: Copy + PartialOrd>(&self, values: &[T]) -> Vec<T> {
-        let mut out = values[..self.input_vertex_count].to_vec();
-        let copies = values.iter().zip(&self.pinch_origin);
-        for (&value, &origin) in copies.skip(self.input_vertex_count) {
+        let input = self.input_vertex_count as u32;
+        let mut out: Vec<T> = (0..input)
+            .map(|u| values[self.mesh_vertex(u) as usize])
+            .collect();
+        for (&value, &origin) in values.iter().zip(&self.pinch_origin) {
             if value < out[origin as usize] {
                 out[origin as usize] = value;
             }

@@ -232,7 +232,14 @@ fn weld_merges_equal_positions_and_drops_collapsed_faces() {
     assert_eq!(as_stored.summary().duplicate_positions, 1);
     assert_eq!(as_stored.summary().zero_area_faces, 1);
     assert_eq!(as_stored.summary().components, 1);
-    let welded = Mesh::build(soup(&p, &t), &BuildOptions { weld: true }).unwrap();
+    let welded = Mesh::build(
+        soup(&p, &t),
+        &BuildOptions {
+            weld: true,
+            ..BuildOptions::default()
+        },
+    )
+    .unwrap();
     let s = welded.summary();
     assert_eq!((s.vertices, s.faces, s.welded_collapsed_faces), (4, 2, 1));
     assert_eq!((s.welded_vertices, s.duplicate_positions), (1, 0));
@@ -363,5 +370,83 @@ fn three_fans_make_a_ring_of_copies() {
     for v in [0, 10, 11] {
         assert_eq!(mesh.outgoing(v).count(), 3, "fan {v}");
         assert_eq!(mesh.pinch_origin(v), 0);
+    }
+}
+
+#[test]
+fn reordered_mesh_translates_every_number() {
+    // Three tetrahedra sharing vertex 0 (a pinch vertex with three fans),
+    // renumbered for locality, with and without welding.
+    let mut p = vec![[0.0, 0.0, 0.0]];
+    let mut t = Vec::new();
+    for k in 0..3 {
+        let a = k as f64 * std::f64::consts::TAU / 3.0;
+        let (c, s) = (a.cos(), a.sin());
+        let base = p.len() as u32;
+        p.extend([
+            [2.0 * c, 2.0 * s, 0.0],
+            [2.0 * c - s, 2.0 * s + c, 1.0],
+            [2.0 * c + s, 2.0 * s - c, 1.0],
+        ]);
+        let (b, q, r) = (base, base + 1, base + 2);
+        t.extend([[0, b, q], [0, q, r], [0, r, b], [b, r, q]]);
+    }
+    for weld in [false, true] {
+        let options = |reorder| BuildOptions { weld, reorder };
+        let kept = Mesh::build(soup(&p, &t), &options(false)).unwrap();
+        let mesh = Mesh::build(soup(&p, &t), &options(true)).unwrap();
+        assert_eq!(kept.summary(), mesh.summary());
+        assert_eq!(kept.to_indexed_triangles(), mesh.to_indexed_triangles());
+        // Some number really moved (the test means something).
+        assert!((0..10).any(|u| mesh.mesh_vertex(u) != u));
+        assert!((0..12).any(|f| mesh.mesh_face(f) != f));
+        for u in 0..kept.input_vertex_count() as u32 {
+            let v = mesh.mesh_vertex(u);
+            assert_eq!(mesh.pinch_origin(v), u);
+            assert_eq!(mesh.position(v), kept.position(u));
+            assert_eq!(mesh.angle_sum(v), kept.angle_sum(u));
+        }
+        // The pinch vertex: three fans, each a cone of three faces, ringed.
+        let first = mesh.mesh_vertex(0);
+        let group = mesh.pinch_group(first);
+        assert_eq!(group.len(), 2);
+        for v in std::iter::once(first).chain(group.iter().copied()) {
+            assert!(mesh.is_pinch(v));
+            assert_eq!(mesh.pinch_origin(v), 0);
+            assert_eq!(mesh.outgoing(v).count(), 3);
+            assert!(mesh.outgoing(v).all(|h| mesh.tail(h) == v));
+        }
+        assert!(mesh.is_primary(first) && !group.iter().any(|&v| mesh.is_primary(v)));
+        // Faces: same corners (in input numbers), same flips; twins linked.
+        for f in 0..mesh.face_count() as u32 {
+            let g = mesh.mesh_face(f);
+            assert_eq!(mesh.input_face(g), f);
+            assert_eq!(
+                mesh.face(g).map(|v| mesh.pinch_origin(v)),
+                kept.face(f).map(|v| kept.pinch_origin(v))
+            );
+            assert_eq!(mesh.is_reoriented(g), kept.is_reoriented(f));
+        }
+        for h in 0..mesh.half_edge_count() as u32 {
+            let tw = mesh.twin(h).expect("closed");
+            assert_eq!(mesh.twin(tw), Some(h));
+            assert_eq!((mesh.tail(tw), mesh.head(tw)), (mesh.head(h), mesh.tail(h)));
+        }
+        // Per-vertex values fold onto input vertices as before: the
+        // minimum over a pinch vertex's fans.
+        let values: Vec<f64> = (0..mesh.vertex_count() as u32)
+            .map(|v| {
+                if v == group[1] {
+                    -1.0
+                } else {
+                    f64::from(mesh.pinch_origin(v))
+                }
+            })
+            .collect();
+        let folded = mesh.fold_to_input(&values);
+        let expected: Vec<f64> = (0..10)
+            .map(|u| if u == 0 { -1.0 } else { f64::from(u) })
+            .collect();
+        assert_eq!(folded, expected);
     }
 }

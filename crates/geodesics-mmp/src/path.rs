@@ -72,8 +72,8 @@ impl<'a> MmpField<'a> {
             });
         }
         // The fan copy of a pinch vertex holding the distance.
-        let mut best = v;
-        for u in mesh.pinch_fans(v) {
+        let mut best = mesh.mesh_vertex(v);
+        for u in mesh.pinch_fans(best) {
             if self.solved.dist[u as usize] < self.solved.dist[best as usize] {
                 best = u;
             }

@@ -234,7 +234,7 @@ pub(crate) fn validate(
 /// The point of a source (its position in 3D).
 pub(crate) fn source_point(mesh: &Mesh, s: &Source) -> DVec3 {
     match *s {
-        Source::Vertex(v) => mesh.position(v),
+        Source::Vertex(v) => mesh.position(mesh.mesh_vertex(v)),
         Source::EdgePoint { half_edge: h, t } => {
             let a = mesh.position(mesh.tail(h));
             let b = mesh.position(mesh.head(h));

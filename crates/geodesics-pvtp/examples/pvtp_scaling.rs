@@ -61,7 +61,14 @@ fn main() {
         soup = geodesics_shapes::loop_subdivide(&soup, subdivide)
             .unwrap_or_else(|e| fail(&e.to_string()));
     }
-    let mesh = Mesh::build(soup, &BuildOptions { weld }).unwrap_or_else(|e| fail(&e.to_string()));
+    let mesh = Mesh::build(
+        soup,
+        &BuildOptions {
+            weld,
+            reorder: true,
+        },
+    )
+    .unwrap_or_else(|e| fail(&e.to_string()));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = threads.unwrap_or_else(|| (1..=cores).collect());
     println!(

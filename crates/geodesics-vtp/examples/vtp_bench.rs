@@ -18,7 +18,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let weld = std::env::var_os("WELD").is_some();
     let mesh = Mesh::build(
         geodesics_io::read_mesh(path.as_ref())?,
-        &BuildOptions { weld },
+        &BuildOptions {
+            weld,
+            reorder: true,
+        },
     )?;
     let reset = std::env::var("LAMBDA")
         .ok()

@@ -163,8 +163,8 @@ pub fn trace_path(
         points: Vec::new(),
         branches: Vec::new(),
     };
-    tracer.push_vertex(target);
-    let mut v = target;
+    let mut v = mesh.mesh_vertex(target);
+    tracer.push_vertex(v);
     loop {
         tracer.tick()?;
         let bad = |reason| PathError::Inconsistent { vertex: v, reason };

@@ -29,13 +29,12 @@ pub enum SurfacePoint {
 }
 
 impl SurfacePoint {
-    /// The point in 3D, or `None` if its vertex, half-edge or face is not
-    /// in `mesh`.
+    /// The point in 3D, or `None` if its vertex (an input vertex), half-edge
+    /// or face is not in `mesh`.
     pub fn position(&self, mesh: &Mesh) -> Option<DVec3> {
         match *self {
-            SurfacePoint::Vertex(v) => {
-                ((v as usize) < mesh.vertex_count()).then(|| mesh.position(v))
-            }
+            SurfacePoint::Vertex(v) => ((v as usize) < mesh.input_vertex_count())
+                .then(|| mesh.position(mesh.mesh_vertex(v))),
             SurfacePoint::Edge { half_edge, t } => {
                 if half_edge as usize >= mesh.half_edge_count() {
                     return None;

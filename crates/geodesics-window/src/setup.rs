@@ -137,8 +137,12 @@ impl SolverSetup {
         }
         let mut group_of = vec![NO_GROUP; nv];
         let mut groups: Vec<Vec<u32>> = Vec::new();
-        for v in mesh.input_vertex_count()..nv {
-            let o = mesh.pinch_origin(v as u32);
+        for v in 0..nv {
+            // The further fans of pinch vertices join their first fan.
+            if !mesh.is_pinch(v as u32) || mesh.is_primary(v as u32) {
+                continue;
+            }
+            let o = mesh.mesh_vertex(mesh.pinch_origin(v as u32));
             if group_of[o as usize] == NO_GROUP {
                 group_of[o as usize] = groups.len() as u32;
                 groups.push(vec![o]);

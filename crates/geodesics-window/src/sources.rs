@@ -109,7 +109,7 @@ pub fn validate_sources(
                         vertices: mesh.input_vertex_count(),
                     });
                 }
-                if !mesh.is_referenced(vertex) {
+                if !mesh.is_referenced(mesh.mesh_vertex(vertex)) {
                     return Err(SourceError::UnreferencedVertex {
                         source_index,
                         vertex,
@@ -181,7 +181,7 @@ pub enum SourceStart {
 /// vertex.
 pub fn source_start(mesh: &Mesh, source: &Source) -> SourceStart {
     match *source {
-        Source::Vertex(v) => SourceStart::Vertex(v),
+        Source::Vertex(v) => SourceStart::Vertex(mesh.mesh_vertex(v)),
         Source::EdgePoint { half_edge: h, t } => {
             if t == 0.0 {
                 return SourceStart::Vertex(mesh.tail(h));

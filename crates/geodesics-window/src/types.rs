@@ -53,11 +53,17 @@ impl DistanceField {
         max_distance: Option<f64>,
         vertex: impl Fn(usize) -> (f64, u32),
     ) -> DistanceField {
-        let n = mesh.input_vertex_count();
-        let (mut distance, mut nearest_source): (Vec<f64>, Vec<u32>) = (0..n).map(&vertex).unzip();
-        for v in n..mesh.vertex_count() {
-            let o = mesh.pinch_origin(v as u32) as usize;
-            let (d, s) = vertex(v);
+        let n = mesh.input_vertex_count() as u32;
+        let (mut distance, mut nearest_source): (Vec<f64>, Vec<u32>) =
+            (0..n).map(|u| vertex(mesh.mesh_vertex(u) as usize)).unzip();
+        // The further fans of pinch vertices: the input vertex takes the
+        // nearest.
+        for v in 0..mesh.vertex_count() as u32 {
+            if !mesh.is_pinch(v) || mesh.is_primary(v) {
+                continue;
+            }
+            let o = mesh.pinch_origin(v) as usize;
+            let (d, s) = vertex(v as usize);
             if d < distance[o] {
                 distance[o] = d;
                 nearest_source[o] = s;
