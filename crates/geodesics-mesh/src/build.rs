@@ -111,8 +111,23 @@ impl Mesh {
         let twin = link_twins(&edges, &flipped);
 
         let input_vertex_count = positions.len();
-        let (pinch_origin, nonmanifold_vertices) =
+        let (mut pinch_origin, nonmanifold_vertices) =
             split_pinch_vertices(&mut faces, &twin, &mut positions);
+        let mut pinch_ring = pinch_rings(&pinch_origin);
+        let (mut twin, mut flipped, mut face_component) = (twin, flipped, face_component);
+        let mut maps = Renumbering::default();
+        if options.reorder {
+            let (vertex_order, face_order) = locality_order(&positions, &faces);
+            maps = Renumbering::new(vertex_order, face_order, input_vertex_count);
+            maps.apply(
+                &mut faces,
+                &mut twin,
+                &mut flipped,
+                &mut face_component,
+                &mut positions,
+            );
+            maps.apply_to_vertex_numbers(&mut pinch_origin, &mut pinch_ring);
+        }
 
         let half = twin
             .iter()
@@ -132,11 +147,11 @@ impl Mesh {
             component: Vec::new(),
             positions,
             reoriented: flipped,
-            pinch_ring: pinch_rings(&pinch_origin),
+            pinch_ring,
             pinch_origin,
-            mesh_vertex: Vec::new(),
-            input_face: Vec::new(),
-            mesh_face: Vec::new(),
+            mesh_vertex: maps.mesh_vertex,
+            input_face: maps.face_order,
+            mesh_face: maps.new_face,
             input_vertex_count,
             summary: MeshSummary::default(),
         };
@@ -149,96 +164,7 @@ impl Mesh {
             [welded_vertices, welded_collapsed_faces],
             reoriented_faces,
         );
-        if options.reorder {
-            let (vertex_order, face_order) = locality_order(&mesh);
-            mesh.renumber(&vertex_order, &face_order);
-        }
         Ok(mesh)
-    }
-
-    /// Moves vertex `vertex_order[i]` to number `i` and face
-    /// `face_order[j]` to number `j` (corners keep their order within a
-    /// face, so fans, frames and angles are unchanged), recording the maps
-    /// back to the input.
-    fn renumber(&mut self, vertex_order: &[u32], face_order: &[u32]) {
-        let nv = vertex_order.len();
-        let mut new_vertex = vec![NONE; nv];
-        for (i, &v) in vertex_order.iter().enumerate() {
-            new_vertex[v as usize] = i as u32;
-        }
-        let mut new_face = vec![NONE; face_order.len()];
-        for (j, &f) in face_order.iter().enumerate() {
-            new_face[f as usize] = j as u32;
-        }
-        let new_half_edge = |h: u32| {
-            if h == NONE {
-                NONE
-            } else {
-                3 * new_face[(h / 3) as usize] + h % 3
-            }
-        };
-        let new_vertex_or_none = |v: u32| {
-            if v == NONE {
-                NONE
-            } else {
-                new_vertex[v as usize]
-            }
-        };
-        let by_vertex =
-            |old: &[u32]| -> Vec<u32> { vertex_order.iter().map(|&v| old[v as usize]).collect() };
-        let mut half = Vec::with_capacity(self.half.len());
-        let mut corner_angle = Vec::with_capacity(self.half.len());
-        for &f in face_order {
-            for h in 3 * f as usize..3 * f as usize + 3 {
-                let e = self.half[h];
-                half.push(HalfEdge {
-                    twin: new_half_edge(e.twin),
-                    tail: new_vertex[e.tail as usize],
-                    ..e
-                });
-                corner_angle.push(self.corner_angle[h]);
-            }
-        }
-        self.half = half;
-        self.corner_angle = corner_angle;
-        self.reoriented = face_order
-            .iter()
-            .map(|&f| self.reoriented[f as usize])
-            .collect();
-        self.positions = vertex_order
-            .iter()
-            .map(|&v| self.positions[v as usize])
-            .collect();
-        self.angle_sum = vertex_order
-            .iter()
-            .map(|&v| self.angle_sum[v as usize])
-            .collect();
-        self.boundary = vertex_order
-            .iter()
-            .map(|&v| self.boundary[v as usize])
-            .collect();
-        self.component = by_vertex(&self.component);
-        self.pinch_origin = by_vertex(&self.pinch_origin);
-        self.vertex_half_edge = by_vertex(&self.vertex_half_edge)
-            .into_iter()
-            .map(new_half_edge)
-            .collect();
-        self.pinch_ring = by_vertex(&self.pinch_ring)
-            .into_iter()
-            .map(new_vertex_or_none)
-            .collect();
-        // Input vertex u was vertex u before (its first fan, for a pinch
-        // vertex); earlier maps compose (a renumbered mesh is not renumbered
-        // twice, but keep the composition honest).
-        self.mesh_vertex = (0..self.input_vertex_count as u32)
-            .map(|u| new_vertex[self.mesh_vertex(u) as usize])
-            .collect();
-        self.input_face = face_order.iter().map(|&f| self.input_face(f)).collect();
-        let mut mesh_face = vec![NONE; face_order.len()];
-        for (j, &u) in self.input_face.iter().enumerate() {
-            mesh_face[u as usize] = j as u32;
-        }
-        self.mesh_face = mesh_face;
     }
 
     fn compute_geometry(&mut self) {
@@ -259,10 +185,15 @@ impl Mesh {
             self.half[h as usize].apex =
                 self.frame_coords(h, self.position(self.opposite_vertex(h)));
         }
+        // Summed in the input's corner order: the same bits whatever the
+        // numbering (saddle and flat tests sit close to 2π).
         self.angle_sum = vec![0.0; self.positions.len()];
-        for (h, &angle) in self.corner_angle.iter().enumerate() {
-            let v = self.half[h].tail;
-            self.angle_sum[v as usize] += angle;
+        for u in 0..self.face_count() as u32 {
+            let f = self.mesh_face(u) as usize;
+            for h in 3 * f..3 * f + 3 {
+                let v = self.half[h].tail;
+                self.angle_sum[v as usize] += self.corner_angle[h];
+            }
         }
     }
 
@@ -270,15 +201,20 @@ impl Mesh {
         let nv = self.positions.len();
         self.vertex_half_edge = vec![NONE; nv];
         self.boundary = vec![false; nv];
-        for h in 0..self.half.len() as u32 {
-            let v = self.tail(h) as usize;
-            if self.half[h as usize].twin == NONE {
-                // A boundary edge leaving v: the clockwise-most outgoing edge
-                // of v's (single, after pinch splitting) fan.
-                self.boundary[v] = true;
-                self.vertex_half_edge[v] = h;
-            } else if self.vertex_half_edge[v] == NONE {
-                self.vertex_half_edge[v] = h;
+        // In the input's half-edge order, so that a renumbered mesh starts
+        // every fan at the same face as the mesh kept in file order.
+        for u in 0..self.face_count() as u32 {
+            let f = self.mesh_face(u);
+            for h in 3 * f..3 * f + 3 {
+                let v = self.tail(h) as usize;
+                if self.half[h as usize].twin == NONE {
+                    // A boundary edge leaving v: the clockwise-most outgoing
+                    // edge of v's (single, after pinch splitting) fan.
+                    self.boundary[v] = true;
+                    self.vertex_half_edge[v] = h;
+                } else if self.vertex_half_edge[v] == NONE {
+                    self.vertex_half_edge[v] = h;
+                }
             }
         }
         self.component = vec![NONE; nv];
@@ -317,9 +253,11 @@ impl Mesh {
             piece_count
         } else {
             let mut pieces = UnionFind::new(piece_count);
-            for v in nin..self.positions.len() {
-                let origin = self.pinch_origin[v] as usize;
-                pieces.union(self.component[v], self.component[origin]);
+            for v in 0..self.positions.len() as u32 {
+                if self.is_pinch(v) && !self.is_primary(v) {
+                    let first = self.mesh_vertex(self.pinch_origin(v));
+                    pieces.union(self.component[v as usize], self.component[first as usize]);
+                }
             }
             (0..piece_count as u32)
                 .filter(|&c| pieces.find(c) == c)
@@ -349,13 +287,17 @@ impl Mesh {
             .then_some(twice_genus / 2);
 
         let saddle_vertices = (0..nin as u32)
+            .map(|u| self.mesh_vertex(u))
             .filter(|&v| self.is_referenced(v) && self.is_saddle(v))
             .count();
 
         let mut zero_area_faces = 0;
         let mut quality = Vec::with_capacity(self.face_count());
-        for (f, corners) in self.faces().enumerate() {
-            let p = corners.map(|v| self.positions[v as usize]);
+        // In input order: the mean is then the same to the last bit whatever
+        // the numbering.
+        for u in 0..self.face_count() as u32 {
+            let f = self.mesh_face(u) as usize;
+            let p = self.face(f as u32).map(|v| self.positions[v as usize]);
             let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
             if area == 0.0 {
                 zero_area_faces += 1;
@@ -368,13 +310,12 @@ impl Mesh {
         }
         let anisotropy = anisotropy_stats(&mut quality);
 
-        let (lo, hi) = self.positions[..nin]
-            .iter()
-            .enumerate()
-            .filter(|&(v, _)| referenced[v])
+        let (lo, hi) = (0..nin as u32)
+            .filter(|&u| referenced[u as usize])
+            .map(|u| self.position(self.mesh_vertex(u)))
             .fold(
                 (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), (_, &p)| (lo.min(p), hi.max(p)),
+                |(lo, hi), p| (lo.min(p), hi.max(p)),
             );
 
         MeshSummary {
@@ -700,13 +641,107 @@ fn walk_fan(corner: u32, twin: &[u32], mut visit: impl FnMut(u32)) -> u32 {
     }
 }
 
+/// How a mesh being built is renumbered (see [`BuildOptions::reorder`]);
+/// the default, all empty, keeps the input's numbers.
+#[derive(Default)]
+struct Renumbering {
+    /// Per new vertex, its number before; per new face, likewise (what
+    /// [`Mesh::input_face`] keeps).
+    vertex_order: Vec<u32>,
+    face_order: Vec<u32>,
+    /// Per vertex before, its new number; per face, likewise (what
+    /// [`Mesh::mesh_face`] keeps).
+    new_vertex: Vec<u32>,
+    new_face: Vec<u32>,
+    /// Per input vertex, its new number (what [`Mesh::mesh_vertex`] keeps).
+    mesh_vertex: Vec<u32>,
+}
+
+impl Renumbering {
+    /// Vertex `vertex_order[i]` becomes `i` and face `face_order[j]`
+    /// becomes `j`. Before, vertices `0..input_vertex_count` are the
+    /// input's (pinch copies follow) and faces are the input's.
+    fn new(vertex_order: Vec<u32>, face_order: Vec<u32>, input_vertex_count: usize) -> Self {
+        let invert = |order: &[u32]| {
+            let mut inverse = vec![NONE; order.len()];
+            for (i, &x) in order.iter().enumerate() {
+                inverse[x as usize] = i as u32;
+            }
+            inverse
+        };
+        let new_vertex = invert(&vertex_order);
+        let new_face = invert(&face_order);
+        Renumbering {
+            mesh_vertex: new_vertex[..input_vertex_count].to_vec(),
+            vertex_order,
+            face_order,
+            new_vertex,
+            new_face,
+        }
+    }
+
+    fn vertex(&self, v: u32) -> u32 {
+        if v == NONE {
+            NONE
+        } else {
+            self.new_vertex[v as usize]
+        }
+    }
+
+    /// Renumbers the face-indexed tables (corners keep their order within
+    /// a face; twins keep pointing at the same half-edges) and positions.
+    fn apply(
+        &self,
+        faces: &mut Vec<[u32; 3]>,
+        twin: &mut Vec<u32>,
+        flipped: &mut Vec<bool>,
+        face_component: &mut Vec<u32>,
+        positions: &mut Vec<DVec3>,
+    ) {
+        let order = &self.face_order;
+        *faces = order
+            .iter()
+            .map(|&f| faces[f as usize].map(|v| self.vertex(v)))
+            .collect();
+        let new_half_edge = |t: u32| {
+            if t == NONE {
+                NONE
+            } else {
+                3 * self.new_face[(t / 3) as usize] + t % 3
+            }
+        };
+        *twin = order
+            .iter()
+            .flat_map(|&f| [3 * f, 3 * f + 1, 3 * f + 2])
+            .map(|h| new_half_edge(twin[h as usize]))
+            .collect();
+        *flipped = order.iter().map(|&f| flipped[f as usize]).collect();
+        *face_component = order.iter().map(|&f| face_component[f as usize]).collect();
+        *positions = self
+            .vertex_order
+            .iter()
+            .map(|&v| positions[v as usize])
+            .collect();
+    }
+
+    /// Renumbers per-vertex tables of input vertex numbers (kept as they
+    /// are) and of this mesh's vertex numbers (renumbered).
+    fn apply_to_vertex_numbers(&self, pinch_origin: &mut Vec<u32>, pinch_ring: &mut Vec<u32>) {
+        let order = &self.vertex_order;
+        *pinch_origin = order.iter().map(|&v| pinch_origin[v as usize]).collect();
+        *pinch_ring = order
+            .iter()
+            .map(|&v| self.vertex(pinch_ring[v as usize]))
+            .collect();
+    }
+}
+
 /// A cache-friendly numbering (see [`BuildOptions::reorder`]): vertices
 /// sorted along a Morton (Z-order) curve through their positions, then
-/// faces sorted by their smallest and middle new corner numbers, so that a
+/// faces sorted by their smallest new corner number, so that a
 /// vertex's fan and its neighbours' records sit close together. Returns the
 /// old vertex numbers in new order and the old face numbers in new order.
-fn locality_order(mesh: &Mesh) -> (Vec<u32>, Vec<u32>) {
-    let positions = mesh.positions();
+fn locality_order(positions: &[DVec3], faces: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
     let (lo, hi) = positions.iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), &p| (lo.min(p), hi.max(p)),
@@ -732,17 +767,26 @@ fn locality_order(mesh: &Mesh) -> (Vec<u32>, Vec<u32>) {
     for (i, &v) in vertex_order.iter().enumerate() {
         new_vertex[v as usize] = i as u32;
     }
-    let mut faces: Vec<(u64, u32)> = mesh
-        .faces()
-        .enumerate()
-        .map(|(f, corners)| {
-            let mut c = corners.map(|v| new_vertex[v as usize]);
-            c.sort_unstable();
-            ((u64::from(c[0]) << 32) | u64::from(c[1]), f as u32)
-        })
-        .collect();
-    faces.sort_unstable();
-    (vertex_order, faces.into_iter().map(|(_, f)| f).collect())
+    // Faces by their smallest new corner: a counting sort (stable, so a
+    // vertex's faces keep their input order).
+    let first = |corners: &[u32; 3]| corners.iter().map(|&v| new_vertex[v as usize]).min();
+    let mut start = vec![0u32; vertex_order.len() + 1];
+    for corners in faces {
+        if let Some(v) = first(corners) {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..vertex_order.len() {
+        start[v + 1] += start[v];
+    }
+    let mut face_order = vec![0u32; faces.len()];
+    for (f, corners) in faces.iter().enumerate() {
+        if let Some(v) = first(corners) {
+            face_order[start[v as usize] as usize] = f as u32;
+            start[v as usize] += 1;
+        }
+    }
+    (vertex_order, face_order)
 }
 
 /// Spreads the low 21 bits of `x` to every third bit (bit `i` to `3i`).
