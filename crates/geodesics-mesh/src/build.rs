@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use crate::summary::{AnisotropyStats, MeshSummary};
 use crate::union_find::UnionFind;
-use crate::{HalfEdge, IndexedTriangles, Mesh, MeshError, NONE};
+use crate::{FaceKind, HalfEdge, IndexedTriangles, Mesh, MeshError, NONE};
 
 /// How to build a [`Mesh`].
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -153,6 +153,8 @@ impl Mesh {
             input_face: maps.face_order,
             mesh_face: maps.new_face,
             input_vertex_count,
+            average_edge_length: 0.0,
+            face_kind: Vec::new(),
             summary: MeshSummary::default(),
         };
         mesh.compute_geometry();
@@ -188,13 +190,32 @@ impl Mesh {
         // Summed in the input's corner order: the same bits whatever the
         // numbering (saddle and flat tests sit close to 2π).
         self.angle_sum = vec![0.0; self.positions.len()];
+        let mut total_length = 0.0;
         for u in 0..self.face_count() as u32 {
             let f = self.mesh_face(u) as usize;
             for h in 3 * f..3 * f + 3 {
                 let v = self.half[h].tail;
                 self.angle_sum[v as usize] += self.corner_angle[h];
+                total_length += self.half[h].length;
             }
         }
+        self.face_kind = (0..n / 3)
+            .map(|f| {
+                let hs = 3 * f..3 * f + 3;
+                let proper = hs
+                    .clone()
+                    .all(|h| self.half[h].length > 0.0 && self.half[h].apex.y > 0.0);
+                let zeros = hs.filter(|&h| self.half[h].length == 0.0).count();
+                if proper {
+                    FaceKind::Proper
+                } else if zeros == 1 {
+                    FaceKind::Zipper
+                } else {
+                    FaceKind::Blocked
+                }
+            })
+            .collect();
+        self.average_edge_length = if n == 0 { 0.0 } else { total_length / n as f64 };
     }
 
     fn compute_vertex_topology(&mut self, face_component: &[u32]) {

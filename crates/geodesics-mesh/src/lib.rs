@@ -67,6 +67,22 @@ pub struct IndexedTriangles {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// How a window solver crosses a face, decided by its shape when the mesh
+/// is built ([`Mesh::face_kind`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaceKind {
+    /// Positive area: the generic one-step propagation.
+    Proper,
+    /// Zero area with two coincident corners (a zero-length edge): the two
+    /// long edges are the same segment, so a window entering through one
+    /// leaves through the other unchanged (identical frames).
+    Zipper,
+    /// Any other zero-area face (three coincident or collinear corners):
+    /// windows stop there; its corners are pseudo-sources and distances
+    /// cross it along its edges.
+    Blocked,
+}
+
 /// Sentinel for "no half-edge" in the flat arrays.
 pub(crate) const NONE: u32 = u32::MAX;
 
@@ -105,6 +121,10 @@ pub struct Mesh {
     /// Per vertex: index of its connected component (edge-connected), `NONE` if unreferenced.
     component: Vec<u32>,
     input_vertex_count: usize,
+    /// Mean half-edge length.
+    average_edge_length: f64,
+    /// Per face: how window solvers cross it.
+    face_kind: Vec<FaceKind>,
     summary: MeshSummary,
 }
 
@@ -177,6 +197,15 @@ impl Mesh {
             self.half[h + 1].tail,
             self.half[h + 2].tail,
         ]
+    }
+
+    /// How window solvers cross face `f`: [`FaceKind::Proper`] when every
+    /// edge has positive length and every apex lies strictly above its
+    /// edge, [`FaceKind::Zipper`] with exactly one zero-length edge,
+    /// [`FaceKind::Blocked`] otherwise.
+    #[inline]
+    pub fn face_kind(&self, f: u32) -> FaceKind {
+        self.face_kind[f as usize]
     }
 
     /// Whether building flipped face `f` to orient its component
@@ -402,13 +431,10 @@ impl Mesh {
         self.summary.bbox_diagonal
     }
 
-    /// Average half-edge length over all faces.
+    /// Average half-edge length over all faces (computed once, when
+    /// building).
     pub fn average_edge_length(&self) -> f64 {
-        if self.half.is_empty() {
-            0.0
-        } else {
-            self.half.iter().map(|e| e.length).sum::<f64>() / self.half.len() as f64
-        }
+        self.average_edge_length
     }
 
     /// The mesh as input-numbered triangles (after welding and reorientation,

@@ -10,35 +10,13 @@ use crate::Tolerance;
 /// `group_of` value of a vertex that is not a pinch copy.
 pub const NO_GROUP: u32 = u32::MAX;
 
-/// How a face is crossed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FaceKind {
-    /// Positive area: the generic one-step propagation.
-    Proper,
-    /// Zero area with two coincident corners (a zero-length edge): the two
-    /// long edges are the same segment, so a window entering through one
-    /// leaves through the other unchanged (identical frames).
-    Zipper,
-    /// Any other zero-area face (three coincident or collinear corners):
-    /// windows stop there; its corners are pseudo-sources and distances
-    /// cross it along its edges.
-    Blocked,
-}
+pub use geodesics_mesh::FaceKind;
 
-/// How face `f` is crossed.
+/// How face `f` is crossed (classified when the mesh was built:
+/// [`Mesh::face_kind`]).
+#[inline]
 pub fn face_kind(mesh: &Mesh, f: u32) -> FaceKind {
-    let hs = [3 * f, 3 * f + 1, 3 * f + 2];
-    let proper = hs
-        .iter()
-        .all(|&h| mesh.length(h) > 0.0 && mesh.apex(h).y > 0.0);
-    let zeros = hs.iter().filter(|&&h| mesh.length(h) == 0.0).count();
-    if proper {
-        FaceKind::Proper
-    } else if zeros == 1 {
-        FaceKind::Zipper
-    } else {
-        FaceKind::Blocked
-    }
+    mesh.face_kind(f)
 }
 
 /// What a window solver keeps per vertex, packed so that touching a
