@@ -250,3 +250,55 @@ fn refusals_are_one_line_and_leave_the_input_untouched() {
     assert!(e.contains("d.xyz"), "{e}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The CLI renumbers meshes in memory; `--keep-order` does not. Every
+/// number read or written is the file's either way: the same distances
+/// (within the exactness bar) from a vertex, a face point and an edge
+/// point, and the same mesh written back to PLY.
+#[test]
+fn keep_order_changes_nothing_the_user_sees() {
+    let Some(data) = data_dir("distance CLI --keep-order on cow.obj") else {
+        return;
+    };
+    let mesh = data.join("cow.obj");
+    let soup = geodesics_io::read_mesh(&mesh).unwrap();
+    let [a, b, _] = soup.triangles[100];
+    let edge = format!("{a},{b}:0.3");
+    let dir = scratch("keep-order");
+    let run = |keep: bool, ext: &str| {
+        let out = dir.join(format!("d{keep}.{ext}"));
+        let mut args = vec![
+            "distance",
+            s(&mesh),
+            "--source",
+            "7",
+            "--source-point",
+            "100:0.2,0.3,0.5",
+            "--source-edge",
+            &edge,
+            "--output",
+            s(&out),
+        ];
+        if keep {
+            args.push("--keep-order");
+        }
+        ok(&geodesics(&args));
+        out
+    };
+    let kept = read_distances(&run(true, "txt"));
+    let renumbered = read_distances(&run(false, "txt"));
+    assert_eq!(kept.len(), soup.positions.len());
+    let max = kept
+        .iter()
+        .copied()
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max);
+    for (v, (x, y)) in kept.iter().zip(&renumbered).enumerate() {
+        assert!((x - y).abs() <= 1e-12 * max, "vertex {v}: {x} vs {y}");
+    }
+    let kept_ply = geodesics_io::read_mesh(&run(true, "ply")).unwrap();
+    let renumbered_ply = geodesics_io::read_mesh(&run(false, "ply")).unwrap();
+    assert_eq!(kept_ply, renumbered_ply);
+    assert_eq!(kept_ply.positions, soup.positions);
+    std::fs::remove_dir_all(dir).unwrap();
+}
