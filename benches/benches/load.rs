@@ -16,13 +16,28 @@ fn load(c: &mut Criterion) {
             b.iter(|| geodesics_io::read_mesh(&path).expect("real mesh reads"))
         });
         let soup = geodesics_io::read_mesh(&path).expect("real mesh reads");
+        // `Mesh::build`'s default (file order), and renumbered for locality
+        // as the CLI builds it.
+        let renumbered = BuildOptions {
+            reorder: true,
+            ..BuildOptions::default()
+        };
         group.bench_function(format!("build/{file}"), |b| {
             b.iter(|| Mesh::build(soup.clone(), &BuildOptions::default()).expect("builds"))
+        });
+        group.bench_function(format!("build, renumbered/{file}"), |b| {
+            b.iter(|| Mesh::build(soup.clone(), &renumbered).expect("builds"))
         });
         group.bench_function(format!("read+build/{file}"), |b| {
             b.iter(|| {
                 let soup = geodesics_io::read_mesh(&path).expect("real mesh reads");
                 Mesh::build(soup, &BuildOptions::default()).expect("builds")
+            })
+        });
+        group.bench_function(format!("read+build, renumbered/{file}"), |b| {
+            b.iter(|| {
+                let soup = geodesics_io::read_mesh(&path).expect("real mesh reads");
+                Mesh::build(soup, &renumbered).expect("builds")
             })
         });
     }
@@ -34,7 +49,7 @@ fn load(c: &mut Criterion) {
                 soup,
                 &BuildOptions {
                     weld: true,
-                    reorder: true,
+                    ..BuildOptions::default()
                 },
             )
             .expect("builds")

@@ -13,7 +13,14 @@ fn vtp(c: &mut Criterion) {
     group.sample_size(10);
     for file in ["bunny.off", "armadillo.obj"] {
         let soup = geodesics::io::read_mesh(&dir.join(file)).expect("real mesh reads");
-        let mesh = Mesh::build(soup, &BuildOptions::default()).expect("builds");
+        let mesh = Mesh::build(
+            soup,
+            &BuildOptions {
+                reorder: true,
+                ..BuildOptions::default()
+            },
+        )
+        .expect("builds");
         group.bench_function(file, |b| {
             b.iter(|| {
                 geodesics::compute(&mesh, &[Source::Vertex(0)], &Algorithm::default())
