@@ -331,6 +331,33 @@ impl Mesh {
     /// pinch vertex, its first fan; the others are [`Mesh::pinch_fans`]):
     /// `input` itself unless the mesh was renumbered.
     /// `input < input_vertex_count()`.
+    ///
+    /// ```
+    /// use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
+    /// use glam::DVec3;
+    ///
+    /// let soup = IndexedTriangles {
+    ///     positions: vec![
+    ///         DVec3::new(1.0, 1.0, 1.0),
+    ///         DVec3::new(1.0, -1.0, -1.0),
+    ///         DVec3::new(-1.0, 1.0, -1.0),
+    ///         DVec3::new(-1.0, -1.0, 1.0),
+    ///     ],
+    ///     triangles: vec![[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]],
+    /// };
+    /// let options = BuildOptions { reorder: true, ..BuildOptions::default() };
+    /// let mesh = Mesh::build(soup.clone(), &options).unwrap();
+    /// for u in 0..4 {
+    ///     let v = mesh.mesh_vertex(u);
+    ///     assert_eq!(mesh.pinch_origin(v), u);
+    ///     assert_eq!(mesh.position(v), soup.positions[u as usize]);
+    /// }
+    /// // Faces too, corners in the same order (here in input numbers).
+    /// let f = mesh.mesh_face(1);
+    /// assert_eq!(mesh.face(f).map(|v| mesh.pinch_origin(v)), [0, 3, 1]);
+    /// // Back in the input's numbering, whatever the mesh's own.
+    /// assert_eq!(mesh.to_indexed_triangles(), soup);
+    /// ```
     #[inline]
     pub fn mesh_vertex(&self, input: u32) -> u32 {
         if self.mesh_vertex.is_empty() {
