@@ -14,7 +14,10 @@
 //!
 //! // A flat 10 x 10 grid: geodesic distance is the straight-line distance.
 //! let grid = geodesics_shapes::flat_grid(10, 10, 1.0);
-//! let mesh = Mesh::build(grid, &BuildOptions::default())?;
+//! // Renumbered in memory for speed (as the CLI does); sources and
+//! // distances stay in the input's vertex numbers.
+//! let options = BuildOptions { reorder: true, ..BuildOptions::default() };
+//! let mesh = Mesh::build(grid, &options)?;
 //! let algorithm: Algorithm = "vtp".parse()?;
 //! let (field, stats) = compute(&mesh, &[Source::Vertex(0)], &algorithm)?;
 //! let far_corner = 11 * 11 - 1;
