@@ -4,21 +4,14 @@
 //! prints the same comparison with propagations and peak memory.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use geodesics::{Algorithm, BuildOptions, Mesh, Source};
+use geodesics::{Algorithm, Source};
 
 fn algorithms(c: &mut Criterion) {
     let Some(dir) = geodesics_tests::data_dir("algorithm benchmark") else {
         return;
     };
-    let soup = geodesics::io::read_mesh(&dir.join("bunny.off")).expect("bunny.off reads");
-    let mesh = Mesh::build(
-        soup,
-        &BuildOptions {
-            reorder: true,
-            ..BuildOptions::default()
-        },
-    )
-    .expect("bunny.off builds");
+    // Renumbered for locality, as the CLI loads it.
+    let mesh = geodesics_tests::load_mesh(&dir.join("bunny.off"), false);
     let mut group = c.benchmark_group("algorithms on bunny.off");
     group.sample_size(10);
     for &name in Algorithm::NAMES {

@@ -3,7 +3,7 @@
 //! counts and gdist measured in the same run.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use geodesics::{Algorithm, BuildOptions, Mesh, Source};
+use geodesics::{Algorithm, Source};
 
 fn vtp(c: &mut Criterion) {
     let Some(dir) = geodesics_tests::data_dir("vtp benchmark") else {
@@ -12,15 +12,8 @@ fn vtp(c: &mut Criterion) {
     let mut group = c.benchmark_group("vtp");
     group.sample_size(10);
     for file in ["bunny.off", "armadillo.obj"] {
-        let soup = geodesics::io::read_mesh(&dir.join(file)).expect("real mesh reads");
-        let mesh = Mesh::build(
-            soup,
-            &BuildOptions {
-                reorder: true,
-                ..BuildOptions::default()
-            },
-        )
-        .expect("builds");
+        // Renumbered for locality, as the CLI loads it.
+        let mesh = geodesics_tests::load_mesh(&dir.join(file), false);
         group.bench_function(file, |b| {
             b.iter(|| {
                 geodesics::compute(&mesh, &[Source::Vertex(0)], &Algorithm::default())

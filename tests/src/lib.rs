@@ -41,6 +41,15 @@ pub fn reference_dir(data: &Path) -> PathBuf {
     data.join("../reference")
 }
 
+/// The largest finite value of a distance field (0 if none).
+pub fn max_finite(distances: &[f64]) -> f64 {
+    distances
+        .iter()
+        .copied()
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max)
+}
+
 /// Parses a distance file: one value per line, `inf` for unreachable.
 pub fn parse_distances(text: &str) -> Result<Vec<f64>, String> {
     text.lines()
@@ -61,8 +70,9 @@ pub fn read_distances(path: &Path) -> Vec<f64> {
     parse_distances(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-/// Reads and builds a mesh file, panicking with the reader's or the
-/// builder's message (tests only).
+/// Reads and builds a mesh file renumbered for locality, as the CLI does,
+/// panicking with the reader's or the builder's message (tests and
+/// benches only).
 pub fn load_mesh(path: &Path, weld: bool) -> Mesh {
     let soup = geodesics_io::read_mesh(path).unwrap_or_else(|e| panic!("{e}"));
     Mesh::build(

@@ -9,7 +9,7 @@
 use geodesics::{Algorithm, compute, shortest_path};
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{bumpy_sphere, regular_torus};
-use geodesics_tests::data_dir;
+use geodesics_tests::{data_dir, max_finite};
 use geodesics_window::Source;
 
 const REL: f64 = 1e-12;
@@ -45,11 +45,7 @@ fn point_sources(kept: &Mesh, renumbered: &Mesh, input_face: u32) -> [(Source, S
 
 fn assert_close(what: &str, a: &[f64], b: &[f64]) {
     assert_eq!(a.len(), b.len(), "{what}: lengths");
-    let max = a
-        .iter()
-        .copied()
-        .filter(|d| d.is_finite())
-        .fold(0.0, f64::max);
+    let max = max_finite(a);
     let mut worst = 0.0f64;
     for (i, (&x, &y)) in a.iter().zip(b).enumerate() {
         assert_eq!(
@@ -66,7 +62,6 @@ fn assert_close(what: &str, a: &[f64], b: &[f64]) {
 }
 
 fn check(name: &str, soup: &IndexedTriangles, weld: bool, algorithms: &[&str]) {
-    let start = std::time::Instant::now();
     let (kept, renumbered) = both(soup, weld);
     // The mesh itself.
     assert_eq!(kept.summary(), renumbered.summary(), "{name}: summary");
@@ -138,20 +133,11 @@ fn check(name: &str, soup: &IndexedTriangles, weld: bool, algorithms: &[&str]) {
             assert_close(&what, &fa.distance, &fb.distance);
         }
     }
-    eprintln!(
-        "reorder {name}: distances checked after {:.2}s",
-        start.elapsed().as_secs_f64()
-    );
     // Paths to a few vertices: same length, same start and end points.
     let field = compute(&kept, &cases[0].1, &"vtp".parse().unwrap())
         .unwrap()
         .0;
-    let max = field
-        .distance
-        .iter()
-        .copied()
-        .filter(|d| d.is_finite())
-        .fold(0.0, f64::max);
+    let max = max_finite(&field.distance);
     for target in (0..n).step_by((n as usize / 7).max(1)) {
         if !field.distance[target as usize].is_finite() {
             continue;

@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{bumpy_sphere, flat_grid, jittered_flat_grid, jittered_icosphere};
-use geodesics_tests::{data_dir, read_distances, reference_dir};
+use geodesics_tests::{data_dir, max_finite, read_distances, reference_dir};
 use geodesics_vtp::{
     GeodesicPath, PathError, Provenance, SurfacePoint, VtpOptions, shortest_path,
     solve_with_provenance, trace_path,
@@ -320,13 +320,6 @@ impl<'a> Checker<'a> {
             }
         }
     }
-}
-
-fn max_finite(d: &[f64]) -> f64 {
-    d.iter()
-        .copied()
-        .filter(|x| x.is_finite())
-        .fold(0.0, f64::max)
 }
 
 /// Traces and checks paths to `targets` from one solve; returns the report.

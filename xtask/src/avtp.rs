@@ -2,9 +2,9 @@
 //! measured in the same run (Table 1 and Fig 10 of Du et al. 2021).
 
 use anyhow::Result;
-use geodesics::{Algorithm, AvtpOptions, BuildOptions, Mesh};
+use geodesics::{Algorithm, AvtpOptions};
 
-use crate::{Interleaved, data_dir, read};
+use crate::{Interleaved, build_renumbered, data_dir, read};
 
 /// λ values of the table.
 const LAMBDAS: [f64; 7] = [2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0];
@@ -52,13 +52,7 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
     );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (name, soup) in cases {
-        let mesh = Mesh::build(
-            soup,
-            &BuildOptions {
-                reorder: true,
-                ..BuildOptions::default()
-            },
-        )?;
+        let mesh = build_renumbered(soup, false)?;
         // [VTP, AVTP λ0, PAVTP λ0, AVTP λ1, PAVTP λ1, ...]
         let mut algorithms = vec![Algorithm::default()];
         for lambda in LAMBDAS {

@@ -3,9 +3,9 @@
 //! meshes of at least 200K faces.
 
 use anyhow::Result;
-use geodesics::{Algorithm, BuildOptions, Mesh, PvtpOptions};
+use geodesics::{Algorithm, PvtpOptions};
 
-use crate::{Interleaved, data_dir, read};
+use crate::{Interleaved, build_renumbered, data_dir, read};
 
 pub fn table(runs: usize, large: bool) -> Result<()> {
     let dir = data_dir()?;
@@ -13,35 +13,17 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
     let mut cases = vec![
         (
             "bunny.off, Loop x1".to_string(),
-            Mesh::build(
-                geodesics_shapes::loop_subdivide(&bunny, 1)?,
-                &BuildOptions {
-                    reorder: true,
-                    ..BuildOptions::default()
-                },
-            )?,
+            build_renumbered(geodesics_shapes::loop_subdivide(&bunny, 1)?, false)?,
         ),
         (
             "dragon.ply, welded".to_string(),
-            Mesh::build(
-                read(&dir.join("dragon.ply"))?,
-                &BuildOptions {
-                    weld: true,
-                    reorder: true,
-                },
-            )?,
+            build_renumbered(read(&dir.join("dragon.ply"))?, true)?,
         ),
     ];
     if large {
         cases.push((
             "bunny.off, Loop x2".to_string(),
-            Mesh::build(
-                geodesics_shapes::loop_subdivide(&bunny, 2)?,
-                &BuildOptions {
-                    reorder: true,
-                    ..BuildOptions::default()
-                },
-            )?,
+            build_renumbered(geodesics_shapes::loop_subdivide(&bunny, 2)?, false)?,
         ));
     }
     let cores = std::thread::available_parallelism().map_or(2, |n| n.get());

@@ -4,9 +4,9 @@
 //! ratio to VTP measured in the same run.
 
 use anyhow::Result;
-use geodesics::{Algorithm, BuildOptions, Mesh};
+use geodesics::Algorithm;
 
-use crate::{best_of, data_dir, read};
+use crate::{best_of, build_renumbered, data_dir, read};
 
 /// `only`: a comma-separated subset of the algorithm names (all if `None`).
 pub fn table(runs: usize, only: Option<&str>) -> Result<()> {
@@ -20,13 +20,7 @@ pub fn table(runs: usize, only: Option<&str>) -> Result<()> {
     let dir = data_dir()?;
     println!("Every algorithm from vertex 0, best of {runs} runs (solve only)\n");
     for file in ["bunny.off", "armadillo.obj"] {
-        let mesh = Mesh::build(
-            read(&dir.join(file))?,
-            &BuildOptions {
-                reorder: true,
-                ..BuildOptions::default()
-            },
-        )?;
+        let mesh = build_renumbered(read(&dir.join(file))?, false)?;
         println!("{file} ({} faces)\n", mesh.face_count());
         println!(
             "| algorithm | s | × VTP time | propagations | × VTP propagations | peak windows | peak window KiB |"

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use geodesics_tests::{data_dir, parse_distances, read_distances, reference_dir};
+use geodesics_tests::{data_dir, max_finite, parse_distances, read_distances, reference_dir};
 use serde_json::Value;
 
 fn geodesics(args: &[&str]) -> Output {
@@ -288,11 +288,7 @@ fn keep_order_changes_nothing_the_user_sees() {
     let kept = read_distances(&run(true, "txt"));
     let renumbered = read_distances(&run(false, "txt"));
     assert_eq!(kept.len(), soup.positions.len());
-    let max = kept
-        .iter()
-        .copied()
-        .filter(|d| d.is_finite())
-        .fold(0.0, f64::max);
+    let max = max_finite(&kept);
     for (v, (x, y)) in kept.iter().zip(&renumbered).enumerate() {
         assert!((x - y).abs() <= 1e-12 * max, "vertex {v}: {x} vs {y}");
     }

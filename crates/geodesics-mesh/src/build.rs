@@ -106,19 +106,18 @@ impl Mesh {
         }
 
         let edges = EdgeTable::new(&faces, positions.len())?;
-        let (flipped, face_component) = orient_components(&mut faces, &edges)?;
+        let (mut flipped, mut face_component) = orient_components(&mut faces, &edges)?;
         let reoriented_faces = flipped.iter().filter(|&&f| f).count();
-        let twin = link_twins(&edges, &flipped);
+        let mut twin = link_twins(&edges, &flipped);
 
         let input_vertex_count = positions.len();
         let (mut pinch_origin, nonmanifold_vertices) =
             split_pinch_vertices(&mut faces, &twin, &mut positions);
         let mut pinch_ring = pinch_rings(&pinch_origin);
-        let (mut twin, mut flipped, mut face_component) = (twin, flipped, face_component);
         let mut maps = Renumbering::default();
         if options.reorder {
             let (vertex_order, face_order) = locality_order(&positions, &faces);
-            maps = Renumbering::new(vertex_order, face_order, input_vertex_count);
+            maps = Renumbering::new(vertex_order, face_order);
             maps.apply(
                 &mut faces,
                 &mut twin,
@@ -149,7 +148,11 @@ impl Mesh {
             reoriented: flipped,
             pinch_ring,
             pinch_origin,
-            mesh_vertex: maps.mesh_vertex,
+            mesh_vertex: {
+                let mut first = maps.new_vertex;
+                first.truncate(input_vertex_count);
+                first
+            },
             input_face: maps.face_order,
             mesh_face: maps.new_face,
             input_vertex_count,
@@ -275,7 +278,7 @@ impl Mesh {
         } else {
             let mut pieces = UnionFind::new(piece_count);
             for v in 0..self.positions.len() as u32 {
-                if self.is_pinch(v) && !self.is_primary(v) {
+                if self.is_pinch_copy(v) {
                     let first = self.mesh_vertex(self.pinch_origin(v));
                     pieces.union(self.component[v as usize], self.component[first as usize]);
                 }
@@ -670,19 +673,18 @@ struct Renumbering {
     /// [`Mesh::input_face`] keeps).
     vertex_order: Vec<u32>,
     face_order: Vec<u32>,
-    /// Per vertex before, its new number; per face, likewise (what
-    /// [`Mesh::mesh_face`] keeps).
+    /// Per vertex before, its new number (its first `input_vertex_count`
+    /// entries are what [`Mesh::mesh_vertex`] keeps); per face, likewise
+    /// (what [`Mesh::mesh_face`] keeps).
     new_vertex: Vec<u32>,
     new_face: Vec<u32>,
-    /// Per input vertex, its new number (what [`Mesh::mesh_vertex`] keeps).
-    mesh_vertex: Vec<u32>,
 }
 
 impl Renumbering {
     /// Vertex `vertex_order[i]` becomes `i` and face `face_order[j]`
-    /// becomes `j`. Before, vertices `0..input_vertex_count` are the
-    /// input's (pinch copies follow) and faces are the input's.
-    fn new(vertex_order: Vec<u32>, face_order: Vec<u32>, input_vertex_count: usize) -> Self {
+    /// becomes `j`. Before, vertices are the input's (pinch copies after
+    /// them) and faces are the input's.
+    fn new(vertex_order: Vec<u32>, face_order: Vec<u32>) -> Self {
         let invert = |order: &[u32]| {
             let mut inverse = vec![NONE; order.len()];
             for (i, &x) in order.iter().enumerate() {
@@ -693,7 +695,6 @@ impl Renumbering {
         let new_vertex = invert(&vertex_order);
         let new_face = invert(&face_order);
         Renumbering {
-            mesh_vertex: new_vertex[..input_vertex_count].to_vec(),
             vertex_order,
             face_order,
             new_vertex,
@@ -790,22 +791,22 @@ fn locality_order(positions: &[DVec3], faces: &[[u32; 3]]) -> (Vec<u32>, Vec<u32
     }
     // Faces by their smallest new corner: a counting sort (stable, so a
     // vertex's faces keep their input order).
-    let first = |corners: &[u32; 3]| corners.iter().map(|&v| new_vertex[v as usize]).min();
+    let first = |c: &[u32; 3]| {
+        let [a, b, d] = c.map(|v| new_vertex[v as usize]);
+        a.min(b).min(d) as usize
+    };
     let mut start = vec![0u32; vertex_order.len() + 1];
     for corners in faces {
-        if let Some(v) = first(corners) {
-            start[v as usize + 1] += 1;
-        }
+        start[first(corners) + 1] += 1;
     }
     for v in 0..vertex_order.len() {
         start[v + 1] += start[v];
     }
     let mut face_order = vec![0u32; faces.len()];
     for (f, corners) in faces.iter().enumerate() {
-        if let Some(v) = first(corners) {
-            face_order[start[v as usize] as usize] = f as u32;
-            start[v as usize] += 1;
-        }
+        let v = first(corners);
+        face_order[start[v] as usize] = f as u32;
+        start[v] += 1;
     }
     (vertex_order, face_order)
 }

@@ -360,11 +360,7 @@ impl Mesh {
     /// ```
     #[inline]
     pub fn mesh_vertex(&self, input: u32) -> u32 {
-        if self.mesh_vertex.is_empty() {
-            input
-        } else {
-            self.mesh_vertex[input as usize]
-        }
+        renumbered(&self.mesh_vertex, input)
     }
 
     /// The input face that face `f` of this mesh is (its corners possibly
@@ -372,29 +368,21 @@ impl Mesh {
     /// renumbered.
     #[inline]
     pub fn input_face(&self, f: u32) -> u32 {
-        if self.input_face.is_empty() {
-            f
-        } else {
-            self.input_face[f as usize]
-        }
+        renumbered(&self.input_face, f)
     }
 
     /// The face of this mesh that input face `input` became: `input`
     /// itself unless the mesh was renumbered. `input < face_count()`.
     #[inline]
     pub fn mesh_face(&self, input: u32) -> u32 {
-        if self.mesh_face.is_empty() {
-            input
-        } else {
-            self.mesh_face[input as usize]
-        }
+        renumbered(&self.mesh_face, input)
     }
 
-    /// Whether a mesh vertex is the one [`Mesh::mesh_vertex`] gives for its
-    /// input vertex (every vertex but the further fans of pinch vertices).
+    /// Whether `v` is a further fan of a pinch vertex: one of its copies
+    /// other than the fan [`Mesh::mesh_vertex`] gives.
     #[inline]
-    pub fn is_primary(&self, v: u32) -> bool {
-        self.mesh_vertex(self.pinch_origin(v)) == v
+    pub fn is_pinch_copy(&self, v: u32) -> bool {
+        self.is_pinch(v) && self.mesh_vertex(self.pinch_origin(v)) != v
     }
 
     /// Whether `v` is one fan of a non-manifold (pinch) vertex. The fans of one
@@ -496,6 +484,12 @@ impl Mesh {
         }
         out
     }
+}
+
+/// `map[i]`, or `i` itself when the map is empty (numbers kept).
+#[inline]
+fn renumbered(map: &[u32], i: u32) -> u32 {
+    if map.is_empty() { i } else { map[i as usize] }
 }
 
 /// Iterator over the outgoing half-edges of a vertex, counter-clockwise.

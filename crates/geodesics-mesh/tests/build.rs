@@ -343,9 +343,8 @@ fn moebius_strip_is_refused() {
     assert!(matches!(err, MeshError::NonOrientable { .. }), "{err}");
 }
 
-#[test]
-fn three_fans_make_a_ring_of_copies() {
-    // Three tetrahedra sharing vertex 0 only.
+/// Three tetrahedra sharing vertex 0 only.
+fn three_tetrahedra_sharing_vertex_0() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     let mut p = vec![[0.0, 0.0, 0.0]];
     let mut t = Vec::new();
     for k in 0..3 {
@@ -360,6 +359,12 @@ fn three_fans_make_a_ring_of_copies() {
         let (b, q, r) = (base, base + 1, base + 2);
         t.extend([[0, b, q], [0, q, r], [0, r, b], [b, r, q]]);
     }
+    (p, t)
+}
+
+#[test]
+fn three_fans_make_a_ring_of_copies() {
+    let (p, t) = three_tetrahedra_sharing_vertex_0();
     let mesh = build(&p, &t).unwrap();
     assert_eq!(mesh.summary().nonmanifold_vertices, 1);
     assert_eq!(mesh.summary().components, 1);
@@ -375,22 +380,9 @@ fn three_fans_make_a_ring_of_copies() {
 
 #[test]
 fn reordered_mesh_translates_every_number() {
-    // Three tetrahedra sharing vertex 0 (a pinch vertex with three fans),
-    // renumbered for locality, with and without welding.
-    let mut p = vec![[0.0, 0.0, 0.0]];
-    let mut t = Vec::new();
-    for k in 0..3 {
-        let a = k as f64 * std::f64::consts::TAU / 3.0;
-        let (c, s) = (a.cos(), a.sin());
-        let base = p.len() as u32;
-        p.extend([
-            [2.0 * c, 2.0 * s, 0.0],
-            [2.0 * c - s, 2.0 * s + c, 1.0],
-            [2.0 * c + s, 2.0 * s - c, 1.0],
-        ]);
-        let (b, q, r) = (base, base + 1, base + 2);
-        t.extend([[0, b, q], [0, q, r], [0, r, b], [b, r, q]]);
-    }
+    // A pinch vertex with three fans, renumbered for locality, with and
+    // without welding.
+    let (p, t) = three_tetrahedra_sharing_vertex_0();
     for weld in [false, true] {
         let options = |reorder| BuildOptions { weld, reorder };
         let kept = Mesh::build(soup(&p, &t), &options(false)).unwrap();
@@ -416,7 +408,7 @@ fn reordered_mesh_translates_every_number() {
             assert_eq!(mesh.outgoing(v).count(), 3);
             assert!(mesh.outgoing(v).all(|h| mesh.tail(h) == v));
         }
-        assert!(mesh.is_primary(first) && !group.iter().any(|&v| mesh.is_primary(v)));
+        assert!(!mesh.is_pinch_copy(first) && group.iter().all(|&v| mesh.is_pinch_copy(v)));
         // Faces: same corners (in input numbers), same flips; twins linked.
         for f in 0..mesh.face_count() as u32 {
             let g = mesh.mesh_face(f);

@@ -25,9 +25,7 @@
 //! by the vertex's angle defect, so only one reaches it).
 
 use geodesics_mesh::Mesh;
-use geodesics_window::{
-    DistanceField, FaceKind, GeodesicPath, Source, SurfacePoint, Tolerance, face_kind,
-};
+use geodesics_window::{DistanceField, FaceKind, GeodesicPath, Source, SurfacePoint, Tolerance};
 use glam::DVec2;
 use thiserror::Error;
 
@@ -497,7 +495,7 @@ impl Tracer<'_> {
     ) -> Step {
         let mesh = self.mesh;
         let f = Mesh::face_of(e);
-        match face_kind(mesh, f) {
+        match mesh.face_kind(f) {
             FaceKind::Blocked => return Step::Fail,
             FaceKind::Zipper => {
                 // The two long edges are one segment with identical frames
@@ -664,7 +662,7 @@ impl Tracer<'_> {
             let g = he(e, i);
             let pg = reframe(&c, i, p);
             let t = mesh.twin(g)?;
-            if face_kind(mesh, Mesh::face_of(t)) != FaceKind::Proper {
+            if mesh.face_kind(Mesh::face_of(t)) != FaceKind::Proper {
                 return None;
             }
             let len = mesh.length(g);

@@ -61,7 +61,7 @@ mod types;
 mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
-pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState, face_kind};
+pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState};
 pub use shadow::{ALL_RAYS, Arrival, Shadow, pseudo_source_window};
 pub use sources::{
     Seeds, SourceError, SourceStart, barycentric_ok, seeds, source_start, validate_sources,

@@ -10,14 +10,9 @@ use crate::Tolerance;
 /// `group_of` value of a vertex that is not a pinch copy.
 pub const NO_GROUP: u32 = u32::MAX;
 
+/// How a face is crossed, classified when the mesh is built
+/// ([`Mesh::face_kind`]).
 pub use geodesics_mesh::FaceKind;
-
-/// How face `f` is crossed (classified when the mesh was built:
-/// [`Mesh::face_kind`]).
-#[inline]
-pub fn face_kind(mesh: &Mesh, f: u32) -> FaceKind {
-    mesh.face_kind(f)
-}
 
 /// What a window solver keeps per vertex, packed so that touching a
 /// vertex (relaxing it, popping it, checking a window against it) reads
@@ -96,7 +91,7 @@ impl SolverSetup {
     pub fn new(mesh: &Mesh, tol: &Tolerance) -> SolverSetup {
         let nv = mesh.vertex_count();
         let kind: Vec<FaceKind> = (0..mesh.face_count() as u32)
-            .map(|f| face_kind(mesh, f))
+            .map(|f| mesh.face_kind(f))
             .collect();
         // Pseudo-sources: a geodesic may pass through these vertices.
         let mut pseudo: Vec<bool> = (0..nv as u32)
@@ -117,7 +112,7 @@ impl SolverSetup {
         let mut groups: Vec<Vec<u32>> = Vec::new();
         for v in 0..nv {
             // The further fans of pinch vertices join their first fan.
-            if !mesh.is_pinch(v as u32) || mesh.is_primary(v as u32) {
+            if !mesh.is_pinch_copy(v as u32) {
                 continue;
             }
             let o = mesh.mesh_vertex(mesh.pinch_origin(v as u32));

@@ -59,7 +59,7 @@ impl DistanceField {
         // The further fans of pinch vertices: the input vertex takes the
         // nearest.
         for v in 0..mesh.vertex_count() as u32 {
-            if !mesh.is_pinch(v) || mesh.is_primary(v) {
+            if !mesh.is_pinch_copy(v) {
                 continue;
             }
             let o = mesh.pinch_origin(v) as usize;
