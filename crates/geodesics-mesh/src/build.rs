@@ -142,6 +142,8 @@ impl Mesh {
             corner_angle: Vec::new(),
             angle_sum: Vec::new(),
             vertex_half_edge: Vec::new(),
+            fan_start: Vec::new(),
+            fan: Vec::new(),
             boundary: Vec::new(),
             component: Vec::new(),
             positions,
@@ -240,6 +242,27 @@ impl Mesh {
                     self.vertex_half_edge[v] = h;
                 }
             }
+        }
+        // The fans as one flat table, each walked once here so that solvers
+        // read a vertex's faces from contiguous memory (and can ask for
+        // them before they need them) instead of chasing twins.
+        self.fan_start = Vec::with_capacity(nv + 1);
+        self.fan = Vec::with_capacity(self.half.len());
+        self.fan_start.push(0);
+        for v in 0..nv as u32 {
+            let start = self.vertex_half_edge[v as usize];
+            if start != NONE {
+                let mut h = start;
+                loop {
+                    self.fan.push(h);
+                    let t = self.half[Mesh::prev(h) as usize].twin;
+                    if t == NONE || t == start {
+                        break;
+                    }
+                    h = t;
+                }
+            }
+            self.fan_start.push(self.fan.len() as u32);
         }
         self.component = vec![NONE; nv];
         for (f, &c) in face_component.iter().enumerate() {

@@ -103,6 +103,10 @@ pub struct Mesh {
     /// clockwise rotation ends on the boundary (so walking counter-clockwise
     /// with `twin(prev(h))` from it visits the whole fan). `NONE` if unreferenced.
     vertex_half_edge: Vec<u32>,
+    /// Per vertex `v`: its outgoing half-edges in the order of
+    /// [`Mesh::outgoing`] are `fan[fan_start[v]..fan_start[v + 1]]`.
+    fan_start: Vec<u32>,
+    fan: Vec<u32>,
     /// Per vertex: lies on a boundary edge.
     boundary: Vec<bool>,
     /// Per vertex: the input vertex it belongs to (itself for most vertices
@@ -249,6 +253,27 @@ impl Mesh {
     #[inline]
     pub fn opposite_vertex(&self, h: u32) -> u32 {
         self.tail(Self::prev(h))
+    }
+
+    /// Asks the processor to start loading the records of the faces
+    /// around `v` into cache: a hint for solvers that know which vertex
+    /// they will visit next (a fan's faces lie far apart in memory, and
+    /// walking it loads them one after another). No effect on results.
+    #[inline]
+    pub fn prefetch_fan(&self, v: u32) {
+        let v = v as usize;
+        if let Some(&[start, end]) = self.fan_start.get(v..v + 2) {
+            for &h in &self.fan[start as usize..end as usize] {
+                self.prefetch_face(h / 3);
+            }
+        }
+    }
+
+    #[inline]
+    fn prefetch_face(&self, f: u32) {
+        let i = 3 * f as usize;
+        prefetch(&self.half, i);
+        prefetch(&self.half, i + 2);
     }
 
     /// The half-edge on the other side of `h`, `None` on boundary.
@@ -425,6 +450,29 @@ impl Mesh {
         (h != NONE).then_some(h)
     }
 
+    /// The outgoing half-edges of `v` as a slice, in the order of
+    /// [`Mesh::outgoing`] (empty if `v` is unreferenced).
+    ///
+    /// ```
+    /// use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
+    /// use glam::DVec3;
+    ///
+    /// // A square split into two triangles: the corner shared by both.
+    /// let square = IndexedTriangles {
+    ///     positions: vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
+    ///     triangles: vec![[0, 1, 2], [0, 2, 3]],
+    /// };
+    /// let mesh = Mesh::build(square, &BuildOptions::default())?;
+    /// assert_eq!(mesh.fan(0).len(), 2);
+    /// assert!(mesh.fan(0).iter().copied().eq(mesh.outgoing(0)));
+    /// # Ok::<(), geodesics_mesh::MeshError>(())
+    /// ```
+    #[inline]
+    pub fn fan(&self, v: u32) -> &[u32] {
+        let v = v as usize;
+        &self.fan[self.fan_start[v] as usize..self.fan_start[v + 1] as usize]
+    }
+
     /// Outgoing half-edges of `v` in counter-clockwise order around `v`.
     pub fn outgoing(&self, v: u32) -> OutgoingHalfEdges<'_> {
         let start = self.vertex_half_edge[v as usize];
@@ -514,4 +562,21 @@ impl Iterator for OutgoingHalfEdges<'_> {
         self.current = if t == self.start { NONE } else { t };
         Some(h)
     }
+}
+
+/// Asks the processor to start loading `items[i]` into cache (nothing if
+/// `i` is out of range): a hint, no effect on results. The workspace's
+/// one `unsafe` block: stable Rust has no safe prefetch.
+#[inline]
+#[allow(unsafe_code)]
+fn prefetch<T>(items: &[T], i: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(item) = items.get(i) {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: a prefetch reads nothing the program sees and never
+        // faults; the pointer is to a live element anyway.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(item).cast::<i8>()) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (items, i);
 }

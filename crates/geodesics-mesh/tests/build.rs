@@ -176,6 +176,8 @@ fn fans_run_counter_clockwise_from_the_boundary() {
         }
         assert_eq!(mesh.outgoing(v).count(), around.len());
         assert_eq!(mesh.vertex_half_edge(v), around.first().copied());
+        // The fan table holds the same walk.
+        assert_eq!(mesh.fan(v), &around[..], "vertex {v}");
     }
 }
 
@@ -375,6 +377,23 @@ fn three_fans_make_a_ring_of_copies() {
     for v in [0, 10, 11] {
         assert_eq!(mesh.outgoing(v).count(), 3, "fan {v}");
         assert_eq!(mesh.pinch_origin(v), 0);
+    }
+    // The fan table, renumbered or not, with unreferenced vertices: the
+    // same walks as `outgoing`.
+    let mut p = p;
+    p.push([9.0, 9.0, 9.0]);
+    for reorder in [false, true] {
+        let options = BuildOptions {
+            reorder,
+            ..BuildOptions::default()
+        };
+        let mesh = Mesh::build(soup(&p, &t), &options).unwrap();
+        for v in 0..mesh.vertex_count() as u32 {
+            let around: Vec<u32> = mesh.outgoing(v).collect();
+            assert_eq!(mesh.fan(v), &around[..], "vertex {v}, reorder {reorder}");
+        }
+        let lone = mesh.mesh_vertex(p.len() as u32 - 1);
+        assert!(!mesh.is_referenced(lone) && mesh.fan(lone).is_empty());
     }
 }
 
