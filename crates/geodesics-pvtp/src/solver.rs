@@ -646,12 +646,6 @@ pub(crate) struct Solver<'a> {
     /// Pool entries no list or worker holds.
     free: Vec<u32>,
     faces: Vec<FaceRec>,
-    /// Per vertex `v`: its outgoing half-edges are
-    /// `fan[fan_start[v]..fan_start[v + 1]]` (one per face around it),
-    /// counter-clockwise as [`Mesh::outgoing`] (so corner angles summed
-    /// along it give [`Shadow`]'s angle coordinate).
-    fan_start: Vec<u32>,
-    fan: Vec<u32>,
     /// Jobs of the next phase, in scheduling order.
     pending: Vec<JobIn>,
     /// Jobs of the running phase.
@@ -712,23 +706,6 @@ impl<'a> Solver<'a> {
         let tau = mesh.summary().anisotropy.mean.round().max(1.0);
         let width = mesh.average_edge_length() / tau;
         let cap = (4 * nv + 1024).min(1 << 22);
-        // Faces around each vertex as a flat list of outgoing half-edges
-        // (counting sort by tail): one lookup instead of a walk.
-        let mut fan_start = vec![0u32; nv + 1];
-        for h in 0..nh as u32 {
-            fan_start[mesh.tail(h) as usize + 1] += 1;
-        }
-        for v in 0..nv {
-            fan_start[v + 1] += fan_start[v];
-        }
-        // One walk around each vertex here, so that emitting reads the
-        // fan from contiguous memory instead of chasing twins.
-        let mut fan = vec![0u32; nh];
-        for (v, &start) in fan_start[..nv].iter().enumerate() {
-            for (k, h) in (start as usize..).zip(mesh.outgoing(v as u32)) {
-                fan[k] = h;
-            }
-        }
         Solver {
             mesh,
             max_distance: options.max_distance,
@@ -754,8 +731,6 @@ impl<'a> Solver<'a> {
                 };
                 nf
             ],
-            fan_start,
-            fan,
             pending: Vec::new(),
             current: Vec::new(),
             pending_emissions: Vec::new(),
@@ -1075,8 +1050,9 @@ impl<'a> Solver<'a> {
             self.stats.vertex_pops += 1;
             if first {
                 self.verts[vi].inside = true;
-                for k in self.fan_start[vi]..self.fan_start[vi + 1] {
-                    let f = Mesh::face_of(self.fan[k as usize]);
+                let mesh = self.mesh;
+                for &h in mesh.fan(v) {
+                    let f = Mesh::face_of(h);
                     // VTP queues the lists of the faces around v and those
                     // beyond its edges, which are lists of faces around v too.
                     lists += self.schedule_face(f);
@@ -1155,13 +1131,11 @@ impl<'a> Solver<'a> {
         let (d, s) = (x.dist, x.src);
         x.emitted = d;
         self.stats.pseudo_source_emissions += 1;
-        let (a, b) = (self.fan_start[vi] as usize, self.fan_start[vi + 1] as usize);
         let mesh = self.mesh;
-        // The fan from the table, not by walking twins: the corner angles
-        // along it are independent loads. (Taken out of `self` for the
-        // loop, which writes the jobs; a pointer swap.)
-        let fan = std::mem::take(&mut self.fan);
-        let around = || fan[a..b].iter().copied();
+        // The fan from the mesh's table, not by walking twins: the corner
+        // angles along it are independent loads.
+        let fan = mesh.fan(v);
+        let around = || fan.iter().copied();
         let shadow = if x.shadowed {
             Shadow::of_fan(mesh, v, around(), self.arrival[vi], &self.tol)
         } else {
@@ -1170,8 +1144,7 @@ impl<'a> Solver<'a> {
         for (h, rays) in Shadow::fan_rays(shadow, mesh, around()) {
             self.emit_corner(h, d, s, rays);
         }
-        self.fan = fan;
-        b - a
+        fan.len()
     }
 
     /// The emission of the corner at the tail of `h` (see [`Emission`]),

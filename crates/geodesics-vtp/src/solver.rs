@@ -318,9 +318,14 @@ impl<'a> Solver<'a> {
                 self.verts[vi].inside = true;
             }
             if first && !face_sorted {
+                // The next vertex's faces load while this one's lists
+                // are processed (the wavefront jumps around in memory).
+                for &Reverse((_, u)) in self.heap.as_slice().iter().take(3) {
+                    mesh.prefetch_fan(u);
+                }
                 // The faces around v join the traversed area; the lists
                 // waiting to enter them propagate now.
-                for h in mesh.outgoing(v) {
+                for &h in mesh.fan(v) {
                     let f = Mesh::face_of(h);
                     if self.entered[f as usize] == NONE {
                         self.entered[f as usize] = self.pops;
@@ -448,13 +453,14 @@ impl<'a> Solver<'a> {
         let x = &mut self.verts[v as usize];
         let (d, s) = (x.dist, x.src);
         x.emitted = d;
+        let fan = mesh.fan(v).iter().copied();
         let shadow = if x.shadowed && self.options.pruning.shadow {
-            Shadow::of(mesh, v, self.arrival[v as usize], &self.tol)
+            Shadow::of_fan(mesh, v, fan.clone(), self.arrival[v as usize], &self.tol)
         } else {
             None
         };
         self.stats.pseudo_source_emissions += 1;
-        for (h, rays) in Shadow::fan_rays(shadow, mesh, mesh.outgoing(v)) {
+        for (h, rays) in Shadow::fan_rays(shadow, mesh, fan) {
             let a = mesh.head(h);
             let p = Mesh::prev(h);
             let b = mesh.tail(p);
