@@ -274,6 +274,7 @@ impl Mesh {
         let i = 3 * f as usize;
         prefetch(&self.half, i);
         prefetch(&self.half, i + 2);
+        prefetch(&self.corner_angle, i);
     }
 
     /// The half-edge on the other side of `h`, `None` on boundary.
