@@ -99,6 +99,7 @@
 
 mod error;
 mod path;
+mod queue;
 mod solver;
 
 pub use error::VtpError;

@@ -15,6 +15,7 @@ use geodesics_window::{
 };
 use glam::DVec2;
 
+use crate::queue::VertexQueue;
 use crate::{Merge, PairRule, Provenance, Rule1, Schedule, VtpError, VtpOptions};
 
 const NONE: u32 = u32::MAX;
@@ -41,7 +42,7 @@ struct Solver<'a> {
     /// Per vertex: index into `groups` of its pinch group, or NONE.
     group_of: Vec<u32>,
     groups: Vec<Vec<u32>>,
-    heap: BinaryHeap<Reverse<(u64, u32)>>,
+    heap: VertexQueue,
     /// Per half-edge: its list in `pool` and whether it is queued (see
     /// `QUEUED`).
     slot: Vec<u32>,
@@ -143,7 +144,7 @@ impl<'a> Solver<'a> {
             arrival: vec![Arrival::Unknown; nv],
             group_of,
             groups,
-            heap: BinaryHeap::new(),
+            heap: VertexQueue::new(nv),
             slot: vec![NO_LIST; nh],
             pool: Vec::new(),
             free: Vec::new(),
@@ -274,7 +275,7 @@ impl<'a> Solver<'a> {
         // A vertex ahead of the wavefront is (re)queued; an inside one only
         // matters again if it is a pseudo-source that must re-emit.
         if !x.inside || x.must_emit(d, &self.tol) {
-            self.heap.push(Reverse((d.to_bits(), v)));
+            self.heap.push_or_lower(d.to_bits(), v);
         }
     }
 
@@ -287,14 +288,12 @@ impl<'a> Solver<'a> {
             if face_sorted && self.pop_face() {
                 continue;
             }
-            let Some(Reverse((key, v))) = self.heap.pop() else {
+            let Some((key, v)) = self.heap.pop() else {
                 break;
             };
             let vi = v as usize;
             let d = f64::from_bits(key);
-            if d.to_bits() != self.verts[vi].dist.to_bits() {
-                continue; // stale entry (lazy deletion)
-            }
+            debug_assert_eq!(key, self.verts[vi].dist.to_bits(), "keys follow distances");
             if let Some(m) = self.options.max_distance
                 && d > m
             {
@@ -320,7 +319,7 @@ impl<'a> Solver<'a> {
             if first && !face_sorted {
                 // The next vertex's faces load while this one's lists
                 // are processed (the wavefront jumps around in memory).
-                for &Reverse((_, u)) in self.heap.as_slice().iter().take(3) {
+                for u in self.heap.upcoming(3) {
                     mesh.prefetch_fan(u);
                 }
                 // The faces around v join the traversed area; the lists
@@ -355,7 +354,7 @@ impl<'a> Solver<'a> {
         let Some(&Reverse((key, f))) = self.face_heap.peek() else {
             return false;
         };
-        let next_vertex = self.heap.peek().map(|Reverse((k, _))| f64::from_bits(*k));
+        let next_vertex = self.heap.peek().map(|(k, _)| f64::from_bits(k));
         let d = f64::from_bits(key);
         if next_vertex.is_some_and(|v| v < d) {
             return false;
