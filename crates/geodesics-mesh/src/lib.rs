@@ -269,8 +269,10 @@ impl Mesh {
         }
     }
 
+    /// Asks the processor to start loading the records of face `f` (see
+    /// [`Mesh::prefetch_fan`]).
     #[inline]
-    fn prefetch_face(&self, f: u32) {
+    pub fn prefetch_face(&self, f: u32) {
         let i = 3 * f as usize;
         prefetch(&self.half, i);
         prefetch(&self.half, i + 2);
@@ -566,11 +568,12 @@ impl Iterator for OutgoingHalfEdges<'_> {
 }
 
 /// Asks the processor to start loading `items[i]` into cache (nothing if
-/// `i` is out of range): a hint, no effect on results. The workspace's
-/// one `unsafe` block: stable Rust has no safe prefetch.
+/// `i` is out of range): a hint, no effect on results. Solvers use it for
+/// their own per-face and per-vertex tables. The workspace's one `unsafe`
+/// block: stable Rust has no safe prefetch.
 #[inline]
 #[allow(unsafe_code)]
-fn prefetch<T>(items: &[T], i: usize) {
+pub fn prefetch<T>(items: &[T], i: usize) {
     #[cfg(target_arch = "x86_64")]
     if let Some(item) = items.get(i) {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};

@@ -320,6 +320,14 @@ impl Worker {
         let mut done = 0;
         while let Some(pos) = crew.claim(self.index) {
             let k = sh.claim_order[pos] as usize;
+            // The job this worker most likely runs next: its face's records
+            // load while this one runs.
+            if let Some(&next) = sh.claim_order.get(pos + 2) {
+                let f = sh.jobs[next as usize].face;
+                sh.mesh.prefetch_face(f);
+                geodesics_mesh::prefetch(sh.slots, 3 * f as usize);
+                geodesics_mesh::prefetch(sh.faces, f as usize);
+            }
             if self.used == self.outs.len() {
                 self.outs.push(JobOut::default());
             }
