@@ -40,12 +40,15 @@ use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N]";
     let Some(command) = args.first() else {
-        eprintln!(
-            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N]"
-        );
+        eprintln!("{USAGE}");
         return Ok(());
     };
+    if matches!(command.as_str(), "help" | "--help" | "-h") {
+        println!("{USAGE}");
+        return Ok(());
+    }
     let runs = flag_value(&args, "--runs")?.unwrap_or(3);
     match command.as_str() {
         "bench" => bench(runs, args.iter().any(|a| a == "--large")),

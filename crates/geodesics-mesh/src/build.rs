@@ -243,19 +243,24 @@ impl Mesh {
                 }
             }
         }
-        // The fans as one flat table, each walked once here so that solvers
-        // read a vertex's faces from contiguous memory (and can ask for
-        // them before they need them) instead of chasing twins.
+        // The fans as one flat table, so that solvers read a vertex's faces
+        // from contiguous memory (and can ask for them before they need
+        // them) instead of chasing twins. The walk follows each half-edge's
+        // successor around its tail, `twin(prev(h))`, taken first in one
+        // sequential pass: a dense array, not the records scattered over
+        // the mesh in file order.
+        let successor: Vec<u32> = (0..self.half.len() as u32)
+            .map(|h| self.half[Mesh::prev(h) as usize].twin)
+            .collect();
         self.fan_start = Vec::with_capacity(nv + 1);
         self.fan = Vec::with_capacity(self.half.len());
         self.fan_start.push(0);
-        for v in 0..nv as u32 {
-            let start = self.vertex_half_edge[v as usize];
+        for &start in &self.vertex_half_edge {
             if start != NONE {
                 let mut h = start;
                 loop {
                     self.fan.push(h);
-                    let t = self.half[Mesh::prev(h) as usize].twin;
+                    let t = successor[h as usize];
                     if t == NONE || t == start {
                         break;
                     }
