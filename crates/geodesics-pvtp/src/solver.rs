@@ -1102,7 +1102,7 @@ impl<'a> Solver<'a> {
             if self.reset_round[v as usize] != round {
                 continue;
             }
-            for h in mesh.outgoing(v) {
+            for &h in mesh.fan(v) {
                 let p = Mesh::prev(h);
                 for (e, other) in [(h, mesh.head(h)), (p, mesh.tail(p))] {
                     if self.reset_round[other as usize] != round {

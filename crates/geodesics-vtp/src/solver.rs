@@ -321,6 +321,8 @@ impl<'a> Solver<'a> {
                 // are processed (the wavefront jumps around in memory).
                 for u in self.heap.upcoming(3) {
                     mesh.prefetch_fan(u);
+                    geodesics_mesh::prefetch(&self.verts, u as usize);
+                    geodesics_mesh::prefetch(&self.arrival, u as usize);
                 }
                 // The faces around v join the traversed area; the lists
                 // waiting to enter them propagate now.
@@ -414,7 +416,7 @@ impl<'a> Solver<'a> {
             if self.reset_round[v as usize] != round {
                 continue;
             }
-            for h in mesh.outgoing(v) {
+            for &h in mesh.fan(v) {
                 let p = Mesh::prev(h);
                 for (e, other) in [(h, mesh.head(h)), (p, mesh.tail(p))] {
                     if self.reset_round[other as usize] != round {
