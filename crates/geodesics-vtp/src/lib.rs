@@ -12,7 +12,7 @@
 //! with Rule 1 (one angle two sides), the vertex check, and Rules 2/3
 //! (pairwise pruning when the children are merged into the lists beyond:
 //! by default the lists are kept in edge order and each child meets every
-//! window it shares at least half of the narrower one with, see [`Merge`];
+//! window it shares at least 70 % of the narrower one with, see [`Merge`];
 //! the paper's order-free merge is the
 //! `vtp-order-free` variant); lists whose next face is already traversed keep propagating
 //! (secondary propagation), the others wait on the wavefront.
@@ -200,7 +200,7 @@ pub enum Merge {
     OrderPreserving,
     /// Sorted (our default): lists kept in edge order and merged in one
     /// linear pass, each window checked against every window before it
-    /// that it overlaps by at least half of the narrower one (see
+    /// that it overlaps by at least 70 % of the narrower one (see
     /// [`geodesics_window::prune::merge_sorted`]).
     /// On scanned meshes it propagates a quarter to a third fewer windows
     /// than the order-free merge and keeps 30-45 % fewer live, for about
