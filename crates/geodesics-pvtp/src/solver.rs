@@ -1095,6 +1095,8 @@ impl<'a> Solver<'a> {
             if self.verts[v as usize].dist <= guard {
                 self.reset_round[v as usize] = round;
                 self.force_pseudo(v);
+                // Read below: ask for all the fans at once.
+                mesh.prefetch_fan(v);
             }
         }
         let mut dropped = 0u64;

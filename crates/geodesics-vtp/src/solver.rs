@@ -410,6 +410,8 @@ impl<'a> Solver<'a> {
             if self.verts[v as usize].dist <= guard {
                 self.reset_round[v as usize] = round;
                 self.force_pseudo(v);
+                // Read below: ask for all the fans at once.
+                mesh.prefetch_fan(v);
             }
         }
         for &v in &front {
