@@ -261,10 +261,9 @@ impl Mesh {
     /// walking it loads them one after another). No effect on results.
     #[inline]
     pub fn prefetch_fan(&self, v: u32) {
-        let v = v as usize;
-        if let Some(&[start, end]) = self.fan_start.get(v..v + 2) {
-            for &h in &self.fan[start as usize..end as usize] {
-                self.prefetch_face(h / 3);
+        if (v as usize) < self.vertex_count() {
+            for &h in self.fan(v) {
+                self.prefetch_face(Self::face_of(h));
             }
         }
     }

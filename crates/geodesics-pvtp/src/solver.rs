@@ -320,8 +320,8 @@ impl Worker {
         let mut done = 0;
         while let Some(pos) = crew.claim(self.index) {
             let k = sh.claim_order[pos] as usize;
-            // The job this worker most likely runs next: its face's records
-            // load while this one runs.
+            // A job this worker most likely runs soon (two on, so that the
+            // loads have a whole job's time to arrive): its face's records.
             if let Some(&next) = sh.claim_order.get(pos + 2) {
                 let f = sh.jobs[next as usize].face;
                 sh.mesh.prefetch_face(f);

@@ -91,12 +91,10 @@ impl VertexQueue {
             if p <= item {
                 break;
             }
-            self.heap[i] = p;
-            self.at[p.1 as usize] = i as u32;
+            self.place(i, p);
             i = parent;
         }
-        self.heap[i] = item;
-        self.at[item.1 as usize] = i as u32;
+        self.place(i, item);
     }
 
     #[inline]
@@ -118,12 +116,17 @@ impl VertexQueue {
             if item <= c {
                 break;
             }
-            self.heap[i] = c;
-            self.at[c.1 as usize] = i as u32;
+            self.place(i, c);
             i = child;
         }
-        self.heap[i] = item;
-        self.at[item.1 as usize] = i as u32;
+        self.place(i, item);
+    }
+
+    /// Puts `entry` at heap position `i`, keeping its vertex's index.
+    #[inline]
+    fn place(&mut self, i: usize, entry: (u64, u32)) {
+        self.heap[i] = entry;
+        self.at[entry.1 as usize] = i as u32;
     }
 }
 

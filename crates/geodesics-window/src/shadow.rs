@@ -102,12 +102,12 @@ impl Shadow {
     /// must emit everywhere (arrival unknown, or a sector covering the
     /// whole fan).
     pub fn of(mesh: &Mesh, v: u32, arrival: Arrival, tol: &Tolerance) -> Option<Shadow> {
-        Shadow::of_fan(mesh, v, mesh.outgoing(v), arrival, tol)
+        Shadow::of_fan(mesh, v, mesh.fan(v).iter().copied(), arrival, tol)
     }
 
     /// [`Shadow::of`] with the fan of `v` given: its outgoing half-edges
-    /// in the order of [`Mesh::outgoing`] (a solver that keeps its own copy
-    /// of the fans reads them from there instead of walking twins).
+    /// in the order of [`Mesh::outgoing`] (as [`Mesh::fan`] lists them; a
+    /// solver that already holds the fan passes it on).
     pub fn of_fan(
         mesh: &Mesh,
         v: u32,
