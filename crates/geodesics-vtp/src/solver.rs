@@ -325,17 +325,16 @@ impl<'a> Solver<'a> {
                     geodesics_mesh::prefetch(&self.arrival, u as usize);
                 }
                 // The faces around v join the traversed area; the lists
-                // waiting to enter them propagate now.
+                // waiting to enter them propagate now. (A list enters the
+                // face of its half-edge, so these are the lists on the
+                // fan's half-edges; the twins of the edges at v lie in the
+                // fan too.)
                 for &h in mesh.fan(v) {
                     let f = Mesh::face_of(h);
                     if self.entered[f as usize] == NONE {
                         self.entered[f as usize] = self.pops;
                     }
                     for e in 3 * f..3 * f + 3 {
-                        self.enqueue(e);
-                    }
-                    let p = Mesh::prev(h);
-                    for e in [mesh.twin(h), mesh.twin(p)].into_iter().flatten() {
                         self.enqueue(e);
                     }
                 }
@@ -463,6 +462,11 @@ impl<'a> Solver<'a> {
             None
         };
         self.stats.pseudo_source_emissions += 1;
+        // Emitting into the whole fan also sends windows back into the
+        // traversed area (AVTP's reset vertices do, on every step): the
+        // vertex check that would drop them when their list comes up
+        // drops them now (distances only fall, so it would).
+        let check_now = shadow.is_none() && self.options.pruning.vertex_check;
         for (h, rays) in Shadow::fan_rays(shadow, mesh, fan) {
             let a = mesh.head(h);
             let p = Mesh::prev(h);
@@ -488,8 +492,16 @@ impl<'a> Solver<'a> {
                 continue;
             };
             self.stats.windows_created += 1;
-            // The edge opposite v runs from a to b.
-            self.append(t, [a, b], &mut [EndedWindow::new(w)]);
+            let w = EndedWindow::new(w);
+            // The edge opposite v runs from a to b; `t` from b to a.
+            if check_now {
+                let (da, db) = (self.verts[a as usize].dist, self.verts[b as usize].dist);
+                let l = mesh.length(Mesh::next(h));
+                if vertex_check_ended(&w, l, db, da, DVec2::ZERO, f64::INFINITY, &self.tol) {
+                    continue;
+                }
+            }
+            self.append(t, [a, b], &mut [w]);
         }
     }
 
