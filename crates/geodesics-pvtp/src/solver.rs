@@ -436,7 +436,16 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
             .and_then(|r| pseudo_source_window(mesh, h, e.sigma, e.source, r))
         {
             out.emitted += 1;
-            s.beyond[(j + 1) % 3].push(EndedWindow::new(w));
+            let w = EndedWindow::new(w);
+            // The window lies on the twin of the edge from corner j + 1 to
+            // corner j + 2, which runs back from j + 2 to j + 1. Sent back
+            // into the traversed area (a reset vertex emitting into its
+            // whole fan), it fails the vertex check at once.
+            let (start, end) = (d[(j + 2) % 3], d[(j + 1) % 3]);
+            let l = mesh.length(Mesh::next(h));
+            if !vertex_check_ended(&w, l, start, end, DVec2::ZERO, f64::INFINITY, &sh.tol) {
+                s.beyond[(j + 1) % 3].push(w);
+            }
         }
     }
     let kind = sh.kind[f as usize];
