@@ -461,7 +461,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         let mut list = lock(&sh.pool[idx as usize]);
         out.consumed += list.len() as u64;
         match kind {
-            FaceKind::Proper => cross(sh, h, i, &mut list, &mut d, s, out),
+            FaceKind::Proper => cross(sh, h, i, &list, &mut d, s, out),
             FaceKind::Zipper => {
                 if mesh.length(h) > 0.0 {
                     let n = Mesh::next(h);
@@ -540,9 +540,8 @@ fn append_beyond(
 }
 
 /// Propagates the list of half-edge `h = 3f + i` through its (proper) face,
-/// as VTP's `cross`: the vertex check against the distances of the edge's
-/// ends and of the vertex behind it, Rule 1 (one angle two sides) against
-/// the list's best path to the apex, one step per window, the vertex check
+/// as VTP's `cross`: Rule 1 (one angle two sides) against the list's best
+/// path to the apex, one step per window, the vertex check
 /// on each child. Children go to `s.beyond`: those beyond `CA` and those
 /// beyond `BC`; the list's best path to the apex, where it beats the
 /// frozen distance, to `out`'s updates (the write is delayed to the
@@ -551,7 +550,7 @@ fn cross(
     sh: &Shared<'_>,
     h: u32,
     i: usize,
-    list: &mut Vec<EndedWindow>,
+    list: &[EndedWindow],
     d: &mut [f64; 3],
     s: &mut Scratch,
     out: &mut JobOut,
@@ -568,23 +567,8 @@ fn cross(
         mesh.length(n),
     );
     let tol = sh.tol;
-    // Checking with vertices before propagating (Cases 10–12): the list
-    // may have waited while the distances of its edge's ends, and of the
-    // vertex behind it, went down.
-    {
-        let (da, db) = (d[ia], d[ib]);
-        let (behind, d_behind) = match mesh.twin(h) {
-            Some(t) if sh.kind[Mesh::face_of(t) as usize] == FaceKind::Proper => {
-                let q = sh.mesh.apex(t);
-                (
-                    DVec2::new(tri.l - q.x, -q.y),
-                    sh.verts[mesh.opposite_vertex(t) as usize].dist,
-                )
-            }
-            _ => (DVec2::ZERO, f64::INFINITY),
-        };
-        list.retain(|w| !vertex_check_ended(w, tri.l, da, db, behind, d_behind, &tol));
-    }
+    // As in VTP, the list is not checked with vertices again before it
+    // propagates (each window met the check as a child; see `cross` there).
     let info = &mut s.info;
     info.clear();
     let mut best = f64::INFINITY;

@@ -120,7 +120,8 @@ pub struct Pruning {
     /// are merged into a list.
     pub pairs: PairRule,
     /// Checking with vertices (Cases 10–12, the ICH filter, with its
-    /// edge-end variants), on each child and again before a list propagates.
+    /// edge-end variants), on each child and each pseudo-source window
+    /// emitted into a whole fan.
     pub vertex_check: bool,
     /// A saddle or flat vertex emits pseudo-source windows only into its
     /// shadow, the directions a shortest path through it can take
