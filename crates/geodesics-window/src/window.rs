@@ -325,7 +325,9 @@ impl Window {
         }
         // Rounding may put the source a hair above the new edge line.
         let mut p = tri.to_left_frame(self.p);
-        p.y = p.y.min(0.0);
+        if p.y > 0.0 {
+            p.y = 0.0;
+        }
         Some(Window {
             b0: l0,
             b1: l1,
@@ -353,7 +355,9 @@ impl Window {
         if !(m0 <= m1) {
             return None;
         }
-        p.y = p.y.min(0.0);
+        if p.y > 0.0 {
+            p.y = 0.0;
+        }
         Some(Window {
             b0: m0,
             b1: m1,
