@@ -16,6 +16,7 @@
 
 use glam::DVec2;
 
+use crate::window::{larger, smaller};
 use crate::{EndedWindow, Tolerance, Window};
 
 /// The sub-ranges of a window's interval that go to each side of the apex
@@ -518,20 +519,6 @@ const TIE_STEP_MARGINS: f64 = 4.0;
 #[inline]
 fn tie_sliver(w0: &Window, w1: &Window) -> f64 {
     4.0 * TIE_GAP * larger(w0.width(), w1.width())
-}
-
-/// The larger of two interval ends or widths (never NaN: one `maxsd`,
-/// where `f64::max`'s NaN rule costs a few more instructions in the
-/// merge's innermost loop).
-#[inline]
-fn larger(a: f64, b: f64) -> f64 {
-    if a > b { a } else { b }
-}
-
-/// The smaller of two interval ends or widths (see [`larger`]).
-#[inline]
-fn smaller(a: f64, b: f64) -> f64 {
-    if a < b { a } else { b }
 }
 
 /// How much of an edge two windows on it share (negative: the gap between

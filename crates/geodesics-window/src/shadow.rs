@@ -33,6 +33,7 @@ use std::f64::consts::{PI, TAU};
 use geodesics_mesh::Mesh;
 use glam::DVec2;
 
+use crate::window::{larger, smaller};
 use crate::{Tolerance, Window};
 
 /// How the shortest known path reaches a vertex: recorded when its distance
@@ -179,11 +180,11 @@ impl Shadow {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         // The sector as it lies, and wrapped once around the fan.
         for shift in [0.0, self.total] {
-            let a = (self.start - shift).max(fan_angle);
-            let b = (self.end - shift).min(fan_angle + corner);
+            let a = larger(self.start - shift, fan_angle);
+            let b = smaller(self.end - shift, fan_angle + corner);
             if a <= b {
-                lo = lo.min(a);
-                hi = hi.max(b);
+                lo = smaller(lo, a);
+                hi = larger(hi, b);
             }
         }
         // A sector reaching the corner's last direction takes all of its

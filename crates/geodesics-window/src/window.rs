@@ -97,11 +97,16 @@ impl EndedWindow {
     /// Caches the end distances of `window`.
     #[inline]
     pub fn new(window: Window) -> EndedWindow {
-        EndedWindow {
-            d0: window.distance_at(window.b0),
-            d1: window.distance_at(window.b1),
-            window,
-        }
+        // `distance_at` at both ends, written lane by lane so the two
+        // square roots go out as one packed instruction (same bits).
+        let p = window.p;
+        let dy = p.y - 0.0;
+        let squared = [window.b0, window.b1].map(|x| (p.x - x) * (p.x - x) + dy * dy);
+        let [r0, r1] = squared.map(f64::sqrt);
+        let (d0, d1) = (window.sigma + r0, window.sigma + r1);
+        debug_assert_eq!(d0.to_bits(), window.distance_at(window.b0).to_bits());
+        debug_assert_eq!(d1.to_bits(), window.distance_at(window.b1).to_bits());
+        EndedWindow { window, d0, d1 }
     }
 
     /// Rule 1's view of the apex `C` through this window (Section 4.1's
@@ -241,6 +246,20 @@ impl Triangle {
 fn ray_hit(p: DVec2, x: f64, o: DVec2, dir: DVec2) -> f64 {
     let d = DVec2::new(x, 0.0) - p;
     d.perp_dot(p - o) / d.perp_dot(dir)
+}
+
+/// The larger of two interval ends or widths or angles, never NaN:
+/// one `maxsd`, where `f64::max`'s NaN rule costs a few more instructions
+/// in the merge's innermost loop.
+#[inline]
+pub(crate) fn larger(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
+/// The smaller of two interval ends or widths (see [`larger`]).
+#[inline]
+pub(crate) fn smaller(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
 }
 
 /// Clamps `x` into `[lo, hi]`, sending NaN to `nan_to` (never leaks NaN).
