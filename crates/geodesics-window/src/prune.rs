@@ -737,6 +737,26 @@ pub fn merge_sorted(
         out_new,
         pending,
     } = buffers;
+    pending.clear();
+    if list.is_empty() {
+        // Two thirds of the merges fill an empty list: every window is
+        // new, so there is no tail to interleave and nothing to track.
+        let mut j = 0;
+        loop {
+            let w = match (incoming.get(j), pending.last()) {
+                (Some(e), Some((piece, _))) if piece.window.b0 < e.window.b0 => {
+                    pending.pop().expect("a pending piece was seen").0
+                }
+                (Some(e), _) => {
+                    j += 1;
+                    *e
+                }
+                (None, Some(_)) => pending.pop().expect("a pending piece was seen").0,
+                (None, None) => return,
+            };
+            push_checked::<false>(list, out_new, pending, w, true, tol);
+        }
+    }
     // Windows of `list` that start before every incoming one stay where
     // they are; the rest (the tail) is merged with the incoming windows
     // behind them.
@@ -747,7 +767,6 @@ pub fn merge_sorted(
     list.truncate(keep);
     out_new.clear();
     out_new.resize(keep, false);
-    pending.clear();
     let (mut i, mut j) = (0, 0);
     loop {
         // The next window in edge order among the tail, the incoming
@@ -783,7 +802,7 @@ pub fn merge_sorted(
                 .expect("picked a pending piece, so there is one"),
             _ => break,
         };
-        push_checked(list, out_new, pending, w, is_new, tol);
+        push_checked::<true>(list, out_new, pending, w, is_new, tol);
     }
 }
 
@@ -813,9 +832,11 @@ fn sort_by_start(windows: &mut [EndedWindow]) {
 }
 
 /// One step of [`merge_sorted`]: `w` goes behind `out` after meeting the
-/// windows before it that it overlaps.
+/// windows before it that it overlaps. With `OLD`, `out_new` says which
+/// windows of `out` are new (two old ones were checked against each other
+/// already); without, every window is new and `out_new` is left alone.
 #[inline]
-fn push_checked(
+fn push_checked<const OLD: bool>(
     out: &mut Vec<EndedWindow>,
     out_new: &mut Vec<bool>,
     pending: &mut Vec<(EndedWindow, bool)>,
@@ -838,7 +859,7 @@ fn push_checked(
             break;
         }
         nearest = false;
-        if !is_new && !out_new[k] {
+        if OLD && !is_new && !out_new[k] {
             // Both were in the list: already checked against each other.
             if !overlaps {
                 break;
@@ -854,14 +875,16 @@ fn push_checked(
             SplitOutcome::Pair(PairOutcome::RemoveSecond) => return,
             SplitOutcome::Pair(PairOutcome::RemoveFirst) => {
                 out.remove(k);
-                out_new.remove(k);
+                if OLD {
+                    out_new.remove(k);
+                }
                 // The window before the removed one is `w`'s nearest now.
                 nearest = k == out.len();
             }
             SplitOutcome::FirstSplit(right) => {
                 // `w` won the middle of `out[k]`, whose right piece starts
                 // where `w` ends: it waits for its turn.
-                let piece = (right, out_new[k]);
+                let piece = (right, !OLD || out_new[k]);
                 let at = pending.partition_point(|(e, _)| e.window.b0 > right.window.b0);
                 pending.insert(at, piece);
             }
@@ -874,7 +897,9 @@ fn push_checked(
         }
     }
     out.push(w);
-    out_new.push(is_new);
+    if OLD {
+        out_new.push(is_new);
+    }
 }
 
 #[cfg(test)]
