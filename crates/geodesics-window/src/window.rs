@@ -98,7 +98,9 @@ impl EndedWindow {
     #[inline]
     pub fn new(window: Window) -> EndedWindow {
         // `distance_at` at both ends, written lane by lane so the two
-        // square roots go out as one packed instruction (same bits).
+        // square roots go out as one packed instruction. Same operations
+        // in the same order as `p.distance((x, 0))`, `p.y - 0.0` included,
+        // so the same bits.
         let p = window.p;
         let dy = p.y - 0.0;
         let squared = [window.b0, window.b1].map(|x| (p.x - x) * (p.x - x) + dy * dy);
