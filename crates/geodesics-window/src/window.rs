@@ -191,6 +191,7 @@ pub struct Triangle {
 
 impl Triangle {
     /// The triangle with `|AB| = l` and apex `c` (in `AB`'s frame).
+    #[inline]
     pub fn new(l: f64, c: DVec2) -> Triangle {
         let lac = c.length();
         let cb = DVec2::new(l, 0.0) - c;
@@ -210,6 +211,7 @@ impl Triangle {
     /// The triangle with `|AB| = l`, apex `c`, and the mesh's own lengths
     /// `|AC| = lac`, `|CB| = lcb` (so children are clamped to exactly the
     /// lengths their edges have in the mesh).
+    #[inline]
     pub fn with_lengths(l: f64, c: DVec2, lac: f64, lcb: f64) -> Triangle {
         let mut t = Triangle::new(l, c);
         t.lac = lac;
