@@ -18,6 +18,10 @@
 //!   to VTP from the same run.
 //! - `cargo xtask load [--runs N]`: read and topology-build times of every
 //!   real mesh.
+//! - `cargo xtask count [--algorithms a,b,..]`: instructions and simulated
+//!   cache misses per solve (valgrind's cachegrind) on `bunny.off` and
+//!   `armadillo.obj`: the same on every run, so they settle a change to a
+//!   hot path on a noisy machine.
 //!
 //! Meshes come from `GEODESICS_DATA` (default `../shared/data/meshes`).
 //! Times are the minimum over the runs; only ratios measured in one run mean
@@ -32,6 +36,7 @@ use std::process::Command;
 use std::time::Instant;
 
 mod avtp;
+mod count;
 mod pvtp;
 mod tables;
 
@@ -40,7 +45,7 @@ use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N]";
+    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N] | count [--algorithms a,b]";
     let Some(command) = args.first() else {
         eprintln!("{USAGE}");
         return Ok(());
@@ -53,17 +58,24 @@ fn main() -> Result<()> {
     match command.as_str() {
         "bench" => bench(runs, args.iter().any(|a| a == "--large")),
         "avtp" => avtp::table(runs, args.iter().any(|a| a == "--large")),
-        "tables" => tables::table(
-            runs,
-            args.iter()
-                .position(|a| a == "--algorithms")
-                .and_then(|i| args.get(i + 1))
-                .map(String::as_str),
-        ),
+        "tables" => tables::table(runs, flag_text(&args, "--algorithms")),
         "pvtp" => pvtp::table(runs, args.iter().any(|a| a == "--large")),
         "load" => load(runs),
-        other => bail!("unknown xtask command `{other}` (try: bench, avtp, pvtp, tables, load)"),
+        "count" => count::table(flag_text(&args, "--algorithms")),
+        // Run by `count` under cachegrind, not by hand.
+        "solve-times" => count::solve_times(&args[1..]),
+        other => {
+            bail!("unknown xtask command `{other}` (try: bench, avtp, pvtp, tables, load, count)")
+        }
     }
+}
+
+/// The text after `flag`, if given.
+fn flag_text<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
+    args.iter()
+        .position(|a| a == flag)
+        .and_then(|i| args.get(i + 1))
+        .map(String::as_str)
 }
 
 fn flag_value(args: &[String], flag: &str) -> Result<Option<usize>> {
