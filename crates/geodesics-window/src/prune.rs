@@ -1286,6 +1286,41 @@ mod tests {
     }
 
     #[test]
+    fn merging_into_an_empty_list_matches_the_general_merge() {
+        // The empty-list path skips the old/new bookkeeping; the general
+        // path runs when the list holds one window far left of every
+        // incoming one (disjoint from them, never nearest after the
+        // first). Both must keep the same windows, bit for bit.
+        let t = tol();
+        let mut buffers = MergeBuffers::default();
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut unit = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let far = EndedWindow::new(win(-100.0, -99.0, (-99.5, -1.0), 2.0));
+        for round in 0..500 {
+            let n = 2 + round % 12;
+            let incoming: Vec<EndedWindow> = (0..n)
+                .map(|_| {
+                    let b0 = 2.0 * unit();
+                    let b1 = b0 + 0.05 + unit();
+                    let p = (b0 + (b1 - b0) * unit(), -0.2 - unit());
+                    EndedWindow::new(win(b0, b1, p, 0.5 * unit()))
+                })
+                .collect();
+            let mut empty = Vec::new();
+            merge_sorted(&mut empty, &mut incoming.clone(), &mut buffers, &t);
+            let mut general = vec![far];
+            merge_sorted(&mut general, &mut incoming.clone(), &mut buffers, &t);
+            assert_eq!(general[0], far, "round {round}");
+            assert_eq!(&general[1..], &empty[..], "round {round}");
+        }
+    }
+
+    #[test]
     fn merge_sorted_compares_windows_sharing_at_least_half_the_narrower() {
         let t = tol();
         let mut buffers = MergeBuffers::default();
