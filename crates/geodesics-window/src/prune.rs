@@ -712,6 +712,13 @@ pub struct MergeBuffers {
 /// 70 % of the narrower one (see `not_worth_comparing`: both keep that
 /// part).
 ///
+/// The order is kept up to one exception: a window already placed that
+/// loses the start of its interval at a tie point keeps its place, and may
+/// then start after the window behind it (about 4 % of the lists on
+/// armadillo.obj and bunny.off). Nothing unsound follows, only fewer pairs
+/// compared in later merges of that list; re-sorting such lists cost more
+/// than the windows it pruned.
+///
 /// Compared with the order-free merge ([`merge_behind`]), a window meets
 /// every window it overlaps substantially, not just the one it happens to
 /// follow, so fewer redundant windows survive.
