@@ -39,7 +39,7 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::{
-    MergeBuffers, merge_sorted, one_angle_two_sides, vertex_check_ended,
+    MergeBuffers, beaten_from_edge_ends, merge_sorted, one_angle_two_sides, vertex_check_ended,
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Shadow, SolverSetup, Source, Stats,
@@ -443,7 +443,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
             // whole fan), it fails the vertex check at once.
             let (start, end) = (d[(j + 2) % 3], d[(j + 1) % 3]);
             let l = mesh.length(Mesh::next(h));
-            if !vertex_check_ended(&w, l, start, end, DVec2::ZERO, f64::INFINITY, &sh.tol) {
+            if !beaten_from_edge_ends(&w, l, start, end, &sh.tol) {
                 s.beyond[(j + 1) % 3].push(w);
             }
         }

@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::{
-    MergeBuffers, PairOutcome, SplitOutcome, merge_behind, merge_sorted, one_angle_two_sides,
-    prune_adjacent_ended, prune_adjacent_splitting, vertex_check_ended,
+    MergeBuffers, PairOutcome, SplitOutcome, beaten_from_edge_ends, merge_behind, merge_sorted,
+    one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, Shadow, SolverSetup, Source, Stats, Tolerance,
@@ -497,7 +497,7 @@ impl<'a> Solver<'a> {
             if check_now {
                 let (da, db) = (self.verts[a as usize].dist, self.verts[b as usize].dist);
                 let l = mesh.length(Mesh::next(h));
-                if vertex_check_ended(&w, l, db, da, DVec2::ZERO, f64::INFINITY, &self.tol) {
+                if beaten_from_edge_ends(&w, l, db, da, &self.tol) {
                     continue;
                 }
             }

@@ -116,8 +116,23 @@ pub fn vertex_check_ended(
     let (b0, b1) = (w.window.b0, w.window.b1);
     // Non-short-circuit `|` and `&`: every test is a few flops, cheaper
     // than a mispredicted branch.
-    (tol.beats(d_start + b1, w.d1) | tol.beats(d_end + (len - b0), w.d0))
+    beaten_from_edge_ends(w, len, d_start, d_end, tol)
         | (reach_beats(d_third, third, b0, w.d0, tol) & reach_beats(d_third, third, b1, w.d1, tol))
+}
+
+/// The edge-end half of [`vertex_check_ended`], for a window with no
+/// vertex behind it worth checking (a pseudo-source's own window: the
+/// vertex behind is its source): a path to an end vertex, then along the
+/// edge, beats the window everywhere.
+#[inline]
+pub fn beaten_from_edge_ends(
+    w: &EndedWindow,
+    len: f64,
+    d_start: f64,
+    d_end: f64,
+    tol: &Tolerance,
+) -> bool {
+    tol.beats(d_start + w.window.b1, w.d1) | tol.beats(d_end + (len - w.window.b0), w.d0)
 }
 
 /// Whether the path to `(x, 0)` through the point `from` (reached at
@@ -943,6 +958,27 @@ mod tests {
         let r = one_angle_two_sides(&w, 1.8, 1.8, Some(1.0));
         assert_eq!(r.left, Some((0.5, 1.0, false)));
         assert_eq!(r.right, Some((1.8, 2.0, true)));
+    }
+
+    #[test]
+    fn edge_ends_alone_beat_a_window_only_by_the_margin() {
+        let t = tol();
+        // A full-edge window from a source 1 below the middle of [0, 2],
+        // at σ = 1: its ends are at 1 + √2.
+        let w = EndedWindow::new(win(0.0, 2.0, (1.0, -1.0), 1.0));
+        // Start vertex at 0 walks the edge to the far end in 2 < 2.414.
+        assert!(beaten_from_edge_ends(&w, 2.0, 0.0, f64::INFINITY, &t));
+        assert!(beaten_from_edge_ends(&w, 2.0, f64::INFINITY, 0.0, &t));
+        // A tie at the far end is no reason to drop it.
+        let tie = w.d1 - 2.0;
+        assert!(!beaten_from_edge_ends(&w, 2.0, tie, f64::INFINITY, &t));
+        assert!(!beaten_from_edge_ends(
+            &w,
+            2.0,
+            f64::INFINITY,
+            f64::INFINITY,
+            &t
+        ));
     }
 
     #[test]

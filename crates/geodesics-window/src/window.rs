@@ -348,9 +348,7 @@ impl Window {
         }
         // Rounding may put the source a hair above the new edge line.
         let mut p = tri.to_left_frame(self.p);
-        if p.y > 0.0 {
-            p.y = 0.0;
-        }
+        p.y = smaller(p.y, 0.0);
         Some(Window {
             b0: l0,
             b1: l1,
@@ -378,9 +376,7 @@ impl Window {
         if !(m0 <= m1) {
             return None;
         }
-        if p.y > 0.0 {
-            p.y = 0.0;
-        }
+        p.y = smaller(p.y, 0.0);
         Some(Window {
             b0: m0,
             b1: m1,
