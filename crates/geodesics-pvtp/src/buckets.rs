@@ -80,6 +80,18 @@ impl Buckets {
         }
     }
 
+    /// Up to `n` vertices of the current bucket that come out soon (the
+    /// heap's first entries: the next one is among them), for prefetching;
+    /// may include stale entries.
+    #[inline]
+    pub(crate) fn upcoming(&self, n: usize) -> impl Iterator<Item = u32> + '_ {
+        self.heap
+            .as_slice()
+            .iter()
+            .take(n)
+            .map(|&Reverse((_, v))| v)
+    }
+
     /// Removes the entry [`Buckets::peek`] returned.
     pub(crate) fn pop(&mut self) {
         self.heap.pop();

@@ -1039,6 +1039,11 @@ impl<'a> Solver<'a> {
                 self.reset_windows(d);
             }
             self.buckets.pop();
+            // The next vertices' records load while this one is handled
+            // (the wavefront jumps around in memory; this part runs alone).
+            for u in self.buckets.upcoming(3) {
+                self.prefetch_vertex(u);
+            }
             let vi = v as usize;
             let x = self.verts[vi];
             let first = !x.inside;
@@ -1061,6 +1066,21 @@ impl<'a> Solver<'a> {
             }
             if emit {
                 lists += self.emit(v);
+            }
+        }
+    }
+
+    /// Asks for the records `select` reads of vertex `u`: its state, its
+    /// fan's faces and their job records.
+    #[inline]
+    fn prefetch_vertex(&self, u: u32) {
+        geodesics_mesh::prefetch(&self.verts, u as usize);
+        geodesics_mesh::prefetch(&self.arrival, u as usize);
+        if (u as usize) < self.mesh.vertex_count() {
+            for &h in self.mesh.fan(u) {
+                let f = Mesh::face_of(h);
+                self.mesh.prefetch_face(f);
+                geodesics_mesh::prefetch(&self.faces, f as usize);
             }
         }
     }
