@@ -60,6 +60,10 @@ const NONE: u32 = u32::MAX;
 /// per half-edge).
 const LISTS_PER_THREAD: usize = 100;
 
+/// How many popped vertices ahead `select` asks for the records of the
+/// faces around them.
+const PREFETCH_AHEAD: usize = 4;
+
 /// Bounds of the adaptive vertex count `k_ad` (Eq. 5), as in the authors'
 /// code.
 const K_AD_MIN: usize = 6;
@@ -657,6 +661,9 @@ pub(crate) struct Solver<'a> {
     emissions: Vec<[Emission; 3]>,
     /// Per job of the finished phase: (worker, index in its outputs).
     order: Vec<(u32, u32)>,
+    /// The vertices `select` popped in this round: (vertex, first pop,
+    /// emits).
+    chosen: Vec<(u32, bool, bool)>,
     /// Per face: the worker whose queue takes its jobs (empty for one
     /// thread), see [`face_owners`].
     owner: Vec<u32>,
@@ -737,6 +744,7 @@ impl<'a> Solver<'a> {
             pending_emissions: Vec::new(),
             emissions: Vec::new(),
             order: Vec::new(),
+            chosen: Vec::new(),
             owner: face_owners(mesh, threads),
             claim_order: Vec::new(),
             bounds: Vec::new(),
@@ -899,13 +907,11 @@ impl<'a> Solver<'a> {
         true
     }
 
-    /// Selects the three lists of face `f` for the coming phase; returns
-    /// 1 if the face had no job yet.
+    /// Selects the three lists of face `f` for the coming phase.
     #[inline]
-    fn schedule_face(&mut self, f: u32) -> usize {
+    fn schedule_face(&mut self, f: u32) {
         let phase = self.phase;
         let rec = &mut self.faces[f as usize];
-        let new = usize::from(rec.job_phase != phase);
         if rec.entered == NONE {
             rec.entered = self.round;
         }
@@ -914,7 +920,6 @@ impl<'a> Solver<'a> {
         }
         let k = self.job_for(f, phase);
         self.pending[k].mask = 7;
-        new
     }
 
     // ------------------------------------------------------------ main loop
@@ -1007,7 +1012,9 @@ impl<'a> Solver<'a> {
     }
 
     /// K-window-list selection (Sections 4.2–4.3): pop the nearest vertices
-    /// until `k_ad` of them were popped or `K = 100·T` face jobs are made.
+    /// until `k_ad` of them were popped or they bring `K = 100·T` face jobs
+    /// (counted by fan sizes: a vertex's fan once for its faces, once more
+    /// if it emits, as its corners' emissions are work of those jobs).
     /// A popped vertex selects the lists VTP would queue: those of the
     /// faces around it and those beyond its edges.
     fn select(&mut self) {
@@ -1023,6 +1030,14 @@ impl<'a> Solver<'a> {
         let k_cap = LISTS_PER_THREAD * self.threads.max(1);
         let mut popped = 0;
         let mut lists = 0;
+        // First pop the round's vertices, counting the faces they bring by
+        // their fans' sizes (exact unless two of them share a face): the
+        // face records are then read in a second pass over a known list,
+        // each loaded well before it is needed. Read one by one as the
+        // vertices came out, they were a chain of cache misses (this part
+        // runs alone, while the other threads wait).
+        let mut chosen = std::mem::take(&mut self.chosen);
+        chosen.clear();
         while popped < self.k_ad && lists < k_cap {
             let verts = &self.verts;
             let Some((d, v)) = self.buckets.peek(|v| verts[v as usize].dist.to_bits()) else {
@@ -1039,10 +1054,8 @@ impl<'a> Solver<'a> {
                 self.reset_windows(d);
             }
             self.buckets.pop();
-            // The next vertices' records load while this one is handled
-            // (the wavefront jumps around in memory; this part runs alone).
             for u in self.buckets.upcoming(3) {
-                self.prefetch_vertex(u);
+                geodesics_mesh::prefetch(&self.verts, u as usize);
             }
             let vi = v as usize;
             let x = self.verts[vi];
@@ -1056,18 +1069,29 @@ impl<'a> Solver<'a> {
             self.stats.vertex_pops += 1;
             if first {
                 self.verts[vi].inside = true;
-                let mesh = self.mesh;
+            }
+            let fan = self.mesh.fan(v);
+            geodesics_mesh::prefetch(fan, 0);
+            lists += fan.len() * (usize::from(first) + usize::from(emit));
+            chosen.push((v, first, emit));
+        }
+        let mesh = self.mesh;
+        for (i, &(v, first, emit)) in chosen.iter().enumerate() {
+            if let Some(&(u, _, _)) = chosen.get(i + PREFETCH_AHEAD) {
+                self.prefetch_vertex(u);
+            }
+            if first {
+                // VTP queues the lists of the faces around v and those
+                // beyond its edges, which are lists of faces around v too.
                 for &h in mesh.fan(v) {
-                    let f = Mesh::face_of(h);
-                    // VTP queues the lists of the faces around v and those
-                    // beyond its edges, which are lists of faces around v too.
-                    lists += self.schedule_face(f);
+                    self.schedule_face(Mesh::face_of(h));
                 }
             }
             if emit {
-                lists += self.emit(v);
+                self.emit(v);
             }
         }
+        self.chosen = chosen;
     }
 
     /// Asks for the records `select` reads of vertex `u`: its state, its
@@ -1146,9 +1170,8 @@ impl<'a> Solver<'a> {
     /// Pseudo-source `v`: the jobs of its faces relax its neighbours along
     /// the edges and put one window with source `v` on each edge opposite
     /// it (Section 5.2 of Qin et al., "Saddle Vertices"), all of it or,
-    /// for a saddle or flat vertex, the part in its shadow. Returns the
-    /// number of faces involved.
-    fn emit(&mut self, v: u32) -> usize {
+    /// for a saddle or flat vertex, the part in its shadow.
+    fn emit(&mut self, v: u32) {
         let vi = v as usize;
         let x = &mut self.verts[vi];
         let (d, s) = (x.dist, x.src);
@@ -1167,7 +1190,6 @@ impl<'a> Solver<'a> {
         for (h, rays) in Shadow::fan_rays(shadow, mesh, around()) {
             self.emit_corner(h, d, s, rays);
         }
-        fan.len()
     }
 
     /// The emission of the corner at the tail of `h` (see [`Emission`]),
