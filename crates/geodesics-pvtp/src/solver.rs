@@ -907,7 +907,10 @@ impl<'a> Solver<'a> {
         true
     }
 
-    /// Selects the three lists of face `f` for the coming phase.
+    /// Selects the lists of face `f` that hold windows for the coming
+    /// phase (none: no job; windows that reach them later in this phase
+    /// are queued for the next one, as VTP queues a list that fills after
+    /// its face was entered).
     #[inline]
     fn schedule_face(&mut self, f: u32) {
         let phase = self.phase;
@@ -915,11 +918,18 @@ impl<'a> Solver<'a> {
         if rec.entered == NONE {
             rec.entered = self.round;
         }
-        for st in &mut rec.state {
-            *st = phase << 1 | (*st & 1);
+        let mut mask = 0;
+        for (i, st) in rec.state.iter_mut().enumerate() {
+            let main = (*st & 1) as usize;
+            if slot_get(&self.slots[3 * f as usize + i], main) != NO_LIST {
+                *st = phase << 1 | (*st & 1);
+                mask |= 1 << i;
+            }
         }
-        let k = self.job_for(f, phase);
-        self.pending[k].mask = 7;
+        if mask != 0 {
+            let k = self.job_for(f, phase);
+            self.pending[k].mask |= mask;
+        }
     }
 
     // ------------------------------------------------------------ main loop
@@ -1095,7 +1105,7 @@ impl<'a> Solver<'a> {
     }
 
     /// Asks for the records `select` reads of vertex `u`: its state, its
-    /// fan's faces and their job records.
+    /// fan's faces, their job records and list slots.
     #[inline]
     fn prefetch_vertex(&self, u: u32) {
         geodesics_mesh::prefetch(&self.verts, u as usize);
@@ -1105,6 +1115,7 @@ impl<'a> Solver<'a> {
                 let f = Mesh::face_of(h);
                 self.mesh.prefetch_face(f);
                 geodesics_mesh::prefetch(&self.faces, f as usize);
+                geodesics_mesh::prefetch(&self.slots, 3 * f as usize);
             }
         }
     }
