@@ -1086,6 +1086,9 @@ impl<'a> Solver<'a> {
             chosen.push((v, first, emit));
         }
         let mesh = self.mesh;
+        for &(u, _, _) in chosen.iter().take(PREFETCH_AHEAD) {
+            self.prefetch_vertex(u);
+        }
         for (i, &(v, first, emit)) in chosen.iter().enumerate() {
             if let Some(&(u, _, _)) = chosen.get(i + PREFETCH_AHEAD) {
                 self.prefetch_vertex(u);
