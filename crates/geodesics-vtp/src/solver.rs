@@ -83,6 +83,10 @@ struct Solver<'a> {
     /// FTP: faces waiting to be traversed, by their best apex distance.
     face_heap: BinaryHeap<Reverse<(u64, u32)>>,
     face_key: Vec<f64>,
+    /// The queued vertices whose records were asked for after the last
+    /// pop: each stays near the top for several pops, and asking again
+    /// walks its fan again (a stall when the fan is not loaded yet).
+    prefetched: [u32; 3],
 }
 
 pub(crate) fn solve(
@@ -177,6 +181,7 @@ impl<'a> Solver<'a> {
             sorted_merge: options.pruning.pairs == PairRule::Adjacent
                 && options.merge == Merge::Sorted,
             face_heap: BinaryHeap::new(),
+            prefetched: [NONE; 3],
             face_key: if options.schedule == Schedule::FaceSorted {
                 vec![f64::INFINITY; nf]
             } else {
@@ -318,12 +323,19 @@ impl<'a> Solver<'a> {
             }
             if first && !face_sorted {
                 // The next vertex's faces load while this one's lists
-                // are processed (the wavefront jumps around in memory).
-                for u in self.heap.upcoming(3) {
+                // are processed (the wavefront jumps around in memory),
+                // asked for once per vertex.
+                let mut seen = [NONE; 3];
+                for (i, u) in self.heap.upcoming(3).enumerate() {
+                    seen[i] = u;
+                    if self.prefetched.contains(&u) {
+                        continue;
+                    }
                     mesh.prefetch_fan(u);
                     geodesics_mesh::prefetch(&self.verts, u as usize);
                     geodesics_mesh::prefetch(&self.arrival, u as usize);
                 }
+                self.prefetched = seen;
                 // The faces around v join the traversed area; the lists
                 // waiting to enter them propagate now. (A list enters the
                 // face of its half-edge, so these are the lists on the
