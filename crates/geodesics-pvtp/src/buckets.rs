@@ -129,6 +129,28 @@ mod tests {
     }
 
     #[test]
+    fn upcoming_starts_with_the_next_vertex_of_the_current_bucket() {
+        let dist = [0.3, 0.1, 0.7, 0.2, 5.0];
+        let mut b = Buckets::new(1.0, 100);
+        for (v, &d) in dist.iter().enumerate() {
+            b.push(d, v as u32);
+        }
+        let current = |v: u32| dist[v as usize].to_bits();
+        for next in [1, 3, 0, 2] {
+            assert_eq!(b.peek(current), Some((dist[next as usize], next)));
+            let soon: Vec<u32> = b.upcoming(3).collect();
+            assert_eq!(soon[0], next, "{soon:?}");
+            assert!(soon.len() <= 3);
+            b.pop();
+        }
+        // The current bucket is empty: nothing to announce until the next
+        // one is moved in by `peek`.
+        assert_eq!(b.upcoming(3).count(), 0);
+        assert_eq!(b.peek(current), Some((5.0, 4)));
+        assert_eq!(b.upcoming(3).collect::<Vec<_>>(), vec![4]);
+    }
+
+    #[test]
     fn far_entries_share_the_last_bucket() {
         let dist = [1e300, 5.0, f64::MAX];
         let mut b = Buckets::new(1.0, 4);

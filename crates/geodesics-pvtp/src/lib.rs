@@ -7,7 +7,8 @@
 //! A round pops the nearest vertices from distance buckets (width `h/τ`,
 //! Section 4.2) until `k_ad` vertices (adapted by Eq. 5) or `K = 100·T`
 //! face jobs (Eq. 6; a face job holds the up to three window lists of one
-//! face; counted by the popped vertices' fan sizes) are ready, then propagates lists in *phases*: all lists of a
+//! face; counted by the popped vertices' fan sizes) are ready, then
+//! propagates lists in *phases*: all lists of a
 //! phase cross their faces in parallel on a crew of `T` threads (the
 //! calling thread and `T − 1` helpers spawned once per solve on a rayon
 //! pool of `T` threads, which wait for the next phase spinning rather than
