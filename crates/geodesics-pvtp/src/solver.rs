@@ -64,6 +64,10 @@ const LISTS_PER_THREAD: usize = 100;
 /// faces around them.
 const PREFETCH_AHEAD: usize = 4;
 
+/// How many jobs ahead the delayed writes ask for a job's output record
+/// (half of them were written by another core).
+const APPLY_AHEAD: usize = 4;
+
 /// Bounds of the adaptive vertex count `k_ad` (Eq. 5), as in the authors'
 /// code.
 const K_AD_MIN: usize = 6;
@@ -1291,7 +1295,10 @@ impl<'a> Solver<'a> {
         }
         let next = self.phase + 1;
         let mut live = self.live as i64;
-        for &(w, p) in &order {
+        for (i, &(w, p)) in order.iter().enumerate() {
+            if let Some(&(w2, p2)) = order.get(i + APPLY_AHEAD) {
+                geodesics_mesh::prefetch(&guards[w2 as usize].outs, p2 as usize);
+            }
             let out = &guards[w as usize].outs[p as usize];
             live += out.grown - out.consumed as i64;
             let props = out.props;
