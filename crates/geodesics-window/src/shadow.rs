@@ -65,6 +65,7 @@ impl Arrival {
     /// The direction the path arrives from, as `(g, offset)`: the angle
     /// `offset` counter-clockwise from the outgoing half-edge `g` of the
     /// vertex, within `g`'s corner. `None` when unknown.
+    #[inline]
     pub fn direction(&self, mesh: &Mesh) -> Option<(u32, f64)> {
         match *self {
             Arrival::Unknown => None,
@@ -176,6 +177,7 @@ impl Shadow {
     /// inside the sector, as offsets `(ψ0, ψ1)` from the corner's first
     /// direction (`ψ1` infinite when it runs to the corner's end), or
     /// `None` if they do not meet.
+    #[inline]
     pub fn corner_part(&self, fan_angle: f64, corner: f64) -> Option<(f64, f64)> {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         // The sector as it lies, and wrapped once around the fan.
@@ -208,6 +210,7 @@ pub const ALL_RAYS: (f64, f64) = (0.0, f64::INFINITY);
 /// at offsets `rays = (ψ0, ψ1)` from the direction of `h` ([`ALL_RAYS`]:
 /// the whole corner, exactly the full edge). `None` if that edge is a
 /// boundary or the rays light none of it.
+#[inline]
 pub fn pseudo_source_window(
     mesh: &Mesh,
     h: u32,
