@@ -11,7 +11,8 @@
 //!   λ from 2 to 128 against exact VTP in the same run, on the same meshes.
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
-//!   Loop-subdivided bunny and the welded dragon.
+//!   Loop-subdivided bunny and the welded dragon, with the time each solve
+//!   spends outside its parallel phases (what bounds the speed-up).
 //! - `cargo xtask tables [--runs N] [--algorithms a,b,..]`: every algorithm
 //!   (or those named) on `bunny.off` and `armadillo.obj` (Tables 1 and 3 of
 //!   the VTP paper): time, propagations and peak window memory, with ratios
