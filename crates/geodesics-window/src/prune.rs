@@ -753,7 +753,7 @@ pub fn merge_sorted(
         }
         _ => {}
     }
-    sort_by_start(incoming);
+    sort_by_start(incoming, &mut buffers.out);
     let MergeBuffers {
         out: tail,
         out_new,
@@ -828,15 +828,28 @@ pub fn merge_sorted(
     }
 }
 
-/// Sorts windows by start. A propagated list's children come out nearly
-/// in edge order (their parents were), so an insertion sort does about one
-/// comparison per window; long runs, where a bad order could cost
-/// quadratic time, go to the library's sort.
+/// Sorts windows by start, keeping windows with equal starts in their
+/// order. A propagated list's children come out nearly in edge order
+/// (their parents were), so an insertion sort does about one comparison
+/// per window. A long batch is usually a few runs already in order (a
+/// parallel job sends the children of two lists and a pseudo-source window
+/// across one edge at once): those are merged through `scratch` (left
+/// empty); any other long batch, where a bad order could cost quadratic
+/// time, goes to the library's sort.
 #[inline]
-fn sort_by_start(windows: &mut [EndedWindow]) {
+fn sort_by_start(windows: &mut [EndedWindow], scratch: &mut Vec<EndedWindow>) {
     const INSERTION_MAX: usize = 32;
+    const RUNS_MAX: usize = 4;
     if windows.len() > INSERTION_MAX {
-        windows.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+        let descents = windows
+            .windows(2)
+            .filter(|p| p[0].window.b0 > p[1].window.b0)
+            .count();
+        if descents < RUNS_MAX {
+            merge_runs(windows, scratch);
+        } else {
+            windows.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+        }
         return;
     }
     for i in 1..windows.len() {
@@ -851,6 +864,38 @@ fn sort_by_start(windows: &mut [EndedWindow]) {
         }
         windows[k] = w;
     }
+}
+
+/// Sorts `windows`, a few runs each in order by start, by merging each run
+/// into the sorted prefix before it (the prefix's window first on equal
+/// starts, as a stable sort would).
+fn merge_runs(windows: &mut [EndedWindow], scratch: &mut Vec<EndedWindow>) {
+    let n = windows.len();
+    let run_end = |windows: &[EndedWindow], from: usize| {
+        (from + 1..n)
+            .find(|&i| windows[i - 1].window.b0 > windows[i].window.b0)
+            .unwrap_or(n)
+    };
+    let mut sorted = run_end(windows, 0);
+    while sorted < n {
+        let end = run_end(windows, sorted);
+        scratch.clear();
+        let (mut i, mut j) = (0, sorted);
+        while i < sorted && j < end {
+            if windows[j].window.b0 < windows[i].window.b0 {
+                scratch.push(windows[j]);
+                j += 1;
+            } else {
+                scratch.push(windows[i]);
+                i += 1;
+            }
+        }
+        scratch.extend_from_slice(&windows[i..sorted]);
+        scratch.extend_from_slice(&windows[j..end]);
+        windows[..end].copy_from_slice(scratch);
+        sorted = end;
+    }
+    scratch.clear();
 }
 
 /// One step of [`merge_sorted`]: `w` goes behind `out` after meeting the
@@ -1282,12 +1327,49 @@ mod tests {
                     EndedWindow::new(win((n - i) as f64, (n - i) as f64 + 0.5, (0.0, -1.0), 0.0))
                 })
                 .collect();
-            sort_by_start(&mut ws);
+            sort_by_start(&mut ws, &mut Vec::new());
             assert!(
                 ws.windows(2).all(|p| p[0].window.b0 <= p[1].window.b0),
                 "n = {n}"
             );
             assert_eq!(ws.len(), n);
+        }
+    }
+
+    #[test]
+    fn long_batches_of_a_few_runs_sort_as_a_stable_sort_would() {
+        // Up to four runs, each in order, starts drawn from a few values
+        // so that ties are common; `sigma` tells equal starts apart.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |m: u64| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 33) % m
+        };
+        let mut scratch = Vec::new();
+        for round in 0..300 {
+            let runs = 1 + round % 4;
+            let mut ws = Vec::new();
+            for _ in 0..runs {
+                let len = 9 + next(30) as usize;
+                let mut starts: Vec<f64> = (0..len).map(|_| next(16) as f64).collect();
+                starts.sort_by(f64::total_cmp);
+                for b0 in starts {
+                    let id = ws.len() as f64;
+                    ws.push(EndedWindow::new(win(b0, b0 + 1.0, (b0 + 0.5, -1.0), id)));
+                }
+            }
+            let mut expected = ws.clone();
+            expected.sort_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+            sort_by_start(&mut ws, &mut scratch);
+            let key = |w: &EndedWindow| (w.window.b0, w.window.sigma);
+            assert_eq!(
+                ws.iter().map(key).collect::<Vec<_>>(),
+                expected.iter().map(key).collect::<Vec<_>>(),
+                "round {round}"
+            );
+            assert!(scratch.is_empty());
         }
     }
 
