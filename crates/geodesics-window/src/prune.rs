@@ -828,14 +828,14 @@ pub fn merge_sorted(
     }
 }
 
-/// Sorts windows by start, keeping windows with equal starts in their
-/// order. A propagated list's children come out nearly in edge order
-/// (their parents were), so an insertion sort does about one comparison
-/// per window. A long batch is usually a few runs already in order (a
-/// parallel job sends the children of two lists and a pseudo-source window
-/// across one edge at once): those are merged through `scratch` (left
-/// empty); any other long batch, where a bad order could cost quadratic
-/// time, goes to the library's sort.
+/// Sorts windows by start. A propagated list's children come out nearly
+/// in edge order (their parents were), so an insertion sort does about one
+/// comparison per window. A long batch is usually a few runs already in
+/// order (a parallel job sends the children of two lists and a
+/// pseudo-source window across one edge at once): those are merged through
+/// `scratch` (left empty). Both keep windows with equal starts in their
+/// order. Any other long batch, where a bad order could cost quadratic
+/// time, goes to the library's unstable sort.
 #[inline]
 fn sort_by_start(windows: &mut [EndedWindow], scratch: &mut Vec<EndedWindow>) {
     const INSERTION_MAX: usize = 32;

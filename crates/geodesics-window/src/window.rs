@@ -252,9 +252,9 @@ fn ray_hit(p: DVec2, x: f64, o: DVec2, dir: DVec2) -> f64 {
     d.perp_dot(p - o) / d.perp_dot(dir)
 }
 
-/// The larger of two interval ends or widths or angles, never NaN:
-/// one `maxsd`, where `f64::max`'s NaN rule costs a few more instructions
-/// in the merge's innermost loop.
+/// The larger of two interval ends, widths or angles, for operands that
+/// are never NaN (`b` if either is): one `maxsd`, where `f64::max`'s NaN
+/// rule costs a few more instructions in the merge's innermost loop.
 #[inline]
 pub(crate) fn larger(a: f64, b: f64) -> f64 {
     if a > b { a } else { b }
