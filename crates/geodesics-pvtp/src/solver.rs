@@ -205,23 +205,23 @@ struct JobIn {
     emit: u32,
 }
 
-/// What a pseudo-source corner of a face job emits: it relaxes the other
-/// two corners along the edges and puts a window made of the rays `rays`
-/// (offsets in its corner, see [`pseudo_source_window`]; `None`: outside
-/// its shadow, no window) beyond the opposite edge.
+/// What a pseudo-source corner of a face job emits: a window made of the
+/// rays `rays` (offsets in its corner, see [`pseudo_source_window`])
+/// beyond the opposite edge. (Its relaxations along the face's edges are
+/// done when it is selected, see [`Solver::emit`].)
 #[derive(Clone, Copy, Debug)]
 struct Emission {
     /// The corner's distance (infinite: the corner does not emit).
     sigma: f64,
     source: u32,
-    rays: Option<(f64, f64)>,
+    rays: (f64, f64),
 }
 
 impl Emission {
     const NONE: Emission = Emission {
         sigma: f64::INFINITY,
         source: NO_SOURCE,
-        rays: None,
+        rays: (0.0, 0.0),
     };
 }
 
@@ -248,10 +248,9 @@ struct JobOut {
     /// Pseudo-source windows made.
     emitted: u64,
     /// Distance updates `(vertex, distance, source, how the path
-    /// arrives)` that beat the frozen distances: neighbours of emitting
-    /// corners along the edges, then the apex of each list;
+    /// arrives)` that beat the frozen distances: the apex of each list;
     /// `updates[..n_updates]` are valid.
-    updates: [(u32, f64, u32, Arrival); 9],
+    updates: [(u32, f64, u32, Arrival); 3],
 }
 
 // The counters of a record share its first cache line.
@@ -260,7 +259,7 @@ const _: () = assert!(std::mem::offset_of!(JobOut, updates) <= 64);
 impl Default for JobOut {
     fn default() -> Self {
         JobOut {
-            updates: [(NONE, f64::INFINITY, NO_SOURCE, Arrival::Unknown); 9],
+            updates: [(NONE, f64::INFINITY, NO_SOURCE, Arrival::Unknown); 3],
             n_updates: 0,
             prime: false,
             targets: [(NONE, 0); 3],
@@ -274,8 +273,8 @@ impl Default for JobOut {
 
 impl JobOut {
     /// Clears the record for a new job. Only `updates[..n_updates]` is
-    /// ever read, so the update slots are left as they are: writing all
-    /// nine for every job made the record cost four cache lines, not two.
+    /// ever read, so the update slots are left as they are: clearing
+    /// writes the first cache line only.
     #[inline]
     fn reset(&mut self) {
         // Exhaustive on purpose: a field added to the record must be
@@ -301,7 +300,7 @@ impl JobOut {
 
     #[inline]
     fn push_update(&mut self, v: u32, d: f64, source: u32, arrival: Arrival) {
-        // At most 2 per emitting corner and 1 per list: 9.
+        // At most 1 per list: 3.
         self.updates[self.n_updates as usize] = (v, d, source, arrival);
         self.n_updates += 1;
     }
@@ -407,42 +406,21 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
     }
     out.prime = sh.faces[f as usize].entered == sh.round;
     let corners = mesh.face(f);
-    // Distances of the corners, frozen for the phase, lowered locally by
+    // Distances of the corners, frozen for the phase (the emitting
+    // corners' relaxations along the edges included), lowered locally by
     // this job's own updates (real path lengths, so the vertex checks stay
     // sound).
     let mut d = corners.map(|v| sh.verts[v as usize].dist);
     // Pseudo-sources (Section 5.2 of Qin et al.): a window with source at
     // corner j on the edge opposite it, lighting the face beyond (all of
-    // it, or the part in the corner's shadow).
+    // it, or the part in the corner's shadow). Only proper faces get
+    // emissions.
     for (j, e) in emissions.into_iter().flatten().enumerate() {
         if e.sigma == f64::INFINITY {
             continue;
         }
-        // Relax the two other corners along the edges of the face: the
-        // head of `h` arrives back along its twin, the tail of the
-        // half-edge before `h` along that half-edge.
         let h = 3 * f + j as u32;
-        let p = Mesh::prev(h);
-        let to_head = mesh
-            .twin(h)
-            .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
-        for (k, len, arrival) in [
-            ((j + 1) % 3, mesh.length(h), to_head),
-            ((j + 2) % 3, mesh.length(p), Arrival::Edge { half_edge: p }),
-        ] {
-            let dk = e.sigma + len;
-            if dk < d[k] {
-                d[k] = dk;
-                out.push_update(corners[k], dk, e.source, arrival);
-            }
-        }
-        if sh.kind[f as usize] != FaceKind::Proper {
-            continue;
-        }
-        if let Some((_, w)) = e
-            .rays
-            .and_then(|r| pseudo_source_window(mesh, h, e.sigma, e.source, r))
-        {
+        if let Some((_, w)) = pseudo_source_window(mesh, h, e.sigma, e.source, e.rays) {
             out.emitted += 1;
             let w = EndedWindow::new(w);
             // The window lies on the twin of the edge from corner j + 1 to
@@ -1185,10 +1163,13 @@ impl<'a> Solver<'a> {
         self.front = front;
     }
 
-    /// Pseudo-source `v`: the jobs of its faces relax its neighbours along
-    /// the edges and put one window with source `v` on each edge opposite
-    /// it (Section 5.2 of Qin et al., "Saddle Vertices"), all of it or,
-    /// for a saddle or flat vertex, the part in its shadow.
+    /// Pseudo-source `v`: relaxes its neighbours along the edges now (as
+    /// VTP does), and the jobs of its faces put one window with source `v`
+    /// on each edge opposite it (Section 5.2 of Qin et al., "Saddle
+    /// Vertices"), all of it or, for a saddle or flat vertex, the part in
+    /// its shadow. A corner outside the shadow gives its face no work: on
+    /// the subdivided bunny, two jobs in five were such a corner's two
+    /// relaxations alone.
     fn emit(&mut self, v: u32) {
         let vi = v as usize;
         let x = &mut self.verts[vi];
@@ -1206,13 +1187,30 @@ impl<'a> Solver<'a> {
             None
         };
         for (h, rays) in Shadow::fan_rays(shadow, mesh, around()) {
-            self.emit_corner(h, d, s, rays);
+            // The head of `h` comes back to v along its twin, the tail of
+            // the half-edge before `h` along that half-edge.
+            let p = Mesh::prev(h);
+            let to_head = mesh
+                .twin(h)
+                .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
+            self.relax(mesh.head(h), d + mesh.length(h), s, to_head);
+            self.relax(
+                mesh.tail(p),
+                d + mesh.length(p),
+                s,
+                Arrival::Edge { half_edge: p },
+            );
+            if let Some(rays) = rays
+                && self.kind[Mesh::face_of(h) as usize] == FaceKind::Proper
+            {
+                self.emit_corner(h, d, s, rays);
+            }
         }
     }
 
-    /// The emission of the corner at the tail of `h` (see [`Emission`]),
-    /// in the job of its face.
-    fn emit_corner(&mut self, h: u32, sigma: f64, source: u32, rays: Option<(f64, f64)>) {
+    /// The window of the corner at the tail of `h` (see [`Emission`]), in
+    /// the job of its face.
+    fn emit_corner(&mut self, h: u32, sigma: f64, source: u32, rays: (f64, f64)) {
         let k = self.job_for(Mesh::face_of(h), self.phase);
         let job = &mut self.pending[k];
         if job.emit == NONE {
