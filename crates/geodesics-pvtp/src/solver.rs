@@ -64,6 +64,10 @@ const LISTS_PER_THREAD: usize = 100;
 /// faces around them.
 const PREFETCH_AHEAD: usize = 4;
 
+/// How many popped vertices ahead `select` asks for the records of an
+/// emitting vertex's neighbours (after its fan's, `PREFETCH_AHEAD`).
+const NEIGHBOURS_AHEAD: usize = 2;
+
 /// How many jobs ahead the delayed writes ask for a job's output record
 /// (half of them were written by another core).
 const APPLY_AHEAD: usize = 4;
@@ -1074,6 +1078,13 @@ impl<'a> Solver<'a> {
         for (i, &(v, first, emit)) in chosen.iter().enumerate() {
             if let Some(&(u, _, _)) = chosen.get(i + PREFETCH_AHEAD) {
                 self.prefetch_vertex(u);
+            }
+            // An emitting vertex relaxes its neighbours: their records,
+            // once its fan's (asked for above) has arrived.
+            if let Some(&(u, _, true)) = chosen.get(i + NEIGHBOURS_AHEAD) {
+                for &h in mesh.fan(u) {
+                    geodesics_mesh::prefetch(&self.verts, mesh.head(h) as usize);
+                }
             }
             if first {
                 // VTP queues the lists of the faces around v and those
