@@ -268,6 +268,16 @@ impl Mesh {
         }
     }
 
+    /// Asks the processor to start loading the per-vertex records of `v`
+    /// (where its fan starts, its angle sum): a hint for solvers that know
+    /// which vertex they will visit soon, before its fan can be read (see
+    /// [`Mesh::prefetch_fan`]). No effect on results.
+    #[inline]
+    pub fn prefetch_vertex(&self, v: u32) {
+        prefetch(&self.fan_start, v as usize);
+        prefetch(&self.angle_sum, v as usize);
+    }
+
     /// Asks the processor to start loading the records of face `f` (see
     /// [`Mesh::prefetch_fan`]).
     #[inline]

@@ -1056,6 +1056,7 @@ impl<'a> Solver<'a> {
             self.buckets.pop();
             for u in self.buckets.upcoming(3) {
                 geodesics_mesh::prefetch(&self.verts, u as usize);
+                self.mesh.prefetch_vertex(u);
             }
             let vi = v as usize;
             let x = self.verts[vi];
