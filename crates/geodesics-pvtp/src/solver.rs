@@ -72,6 +72,10 @@ const NEIGHBOURS_AHEAD: usize = 2;
 /// (half of them were written by another core).
 const APPLY_AHEAD: usize = 4;
 
+/// How many jobs ahead the delayed writes ask for the records of the
+/// faces a job's output queues (after the output's, `APPLY_AHEAD`).
+const TARGETS_AHEAD: usize = 2;
+
 /// Bounds of the adaptive vertex count `k_ad` (Eq. 5), as in the authors'
 /// code.
 const K_AD_MIN: usize = 6;
@@ -1117,6 +1121,7 @@ impl<'a> Solver<'a> {
                 self.mesh.prefetch_face(f);
                 geodesics_mesh::prefetch(&self.faces, f as usize);
                 geodesics_mesh::prefetch(&self.slots, 3 * f as usize);
+                geodesics_mesh::prefetch(&self.kind, f as usize);
             }
         }
     }
@@ -1311,7 +1316,19 @@ impl<'a> Solver<'a> {
         let mut live = self.live as i64;
         for (i, &(w, p)) in order.iter().enumerate() {
             if let Some(&(w2, p2)) = order.get(i + APPLY_AHEAD) {
-                geodesics_mesh::prefetch(&guards[w2 as usize].outs, p2 as usize);
+                // Its counters, and its updates on the next cache line.
+                let ahead = &guards[w2 as usize].outs[p2 as usize];
+                geodesics_mesh::prefetch(std::slice::from_ref(ahead), 0);
+                geodesics_mesh::prefetch(&ahead.updates, 0);
+            }
+            // The faces whose lists a job queues: their records, once the
+            // job's output (asked for above) has arrived.
+            if let Some(&(w2, p2)) = order.get(i + TARGETS_AHEAD) {
+                for &(t, flags) in &guards[w2 as usize].outs[p2 as usize].targets {
+                    if flags & QUEUE != 0 {
+                        geodesics_mesh::prefetch(&self.faces, (t / 3) as usize);
+                    }
+                }
             }
             let out = &guards[w as usize].outs[p as usize];
             live += out.grown - out.consumed as i64;
