@@ -336,6 +336,15 @@ impl<'a> Solver<'a> {
                     geodesics_mesh::prefetch(&self.arrival, u as usize);
                 }
                 self.prefetched = seen;
+                // The heap's next two levels: their fans, and where the
+                // fans of the level after start, so that asking for a
+                // fan's faces above does not wait on the fan.
+                for u in self.heap.upcoming(7).skip(3) {
+                    mesh.prefetch_fan_list(u);
+                }
+                for u in self.heap.upcoming(15).skip(7) {
+                    mesh.prefetch_vertex(u);
+                }
                 // The faces around v join the traversed area; the lists
                 // waiting to enter them propagate now. (A list enters the
                 // face of its half-edge, so these are the lists on the
