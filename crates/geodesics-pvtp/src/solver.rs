@@ -1109,8 +1109,8 @@ impl<'a> Solver<'a> {
         self.chosen = chosen;
     }
 
-    /// Asks for the records `select` reads of vertex `u`: its state, its
-    /// fan's faces, their job records and list slots.
+    /// Asks for the records `select` reads of vertex `u`: its state and
+    /// arrival, its fan's faces, their job records, list slots and kinds.
     #[inline]
     fn prefetch_vertex(&self, u: u32) {
         geodesics_mesh::prefetch(&self.verts, u as usize);
