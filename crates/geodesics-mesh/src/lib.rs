@@ -278,16 +278,6 @@ impl Mesh {
         prefetch(&self.angle_sum, v as usize);
     }
 
-    /// Asks the processor to start loading the list of `v`'s outgoing
-    /// half-edges ([`Mesh::fan`]), not yet the faces (see
-    /// [`Mesh::prefetch_vertex`]). No effect on results.
-    #[inline]
-    pub fn prefetch_fan_list(&self, v: u32) {
-        if (v as usize) < self.vertex_count() {
-            prefetch(&self.fan, self.fan_start[v as usize] as usize);
-        }
-    }
-
     /// Asks the processor to start loading the records of face `f` (see
     /// [`Mesh::prefetch_fan`]).
     #[inline]

@@ -43,7 +43,8 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Shadow, SolverSetup, Source, Stats,
-    Tolerance, Triangle, VertexState, WindowReset, pseudo_source_window, seeds, validate_sources,
+    Tolerance, Triangle, VertexState, WindowReset, corner_neighbours, pseudo_source_window, seeds,
+    validate_sources,
 };
 use glam::DVec2;
 use rayon::prelude::*;
@@ -1082,11 +1083,11 @@ impl<'a> Solver<'a> {
         }
         let mesh = self.mesh;
         for &(u, _, _) in chosen.iter().take(PREFETCH_AHEAD) {
-            self.prefetch_vertex(u);
+            self.prefetch_fan_records(u);
         }
         for (i, &(v, first, emit)) in chosen.iter().enumerate() {
             if let Some(&(u, _, _)) = chosen.get(i + PREFETCH_AHEAD) {
-                self.prefetch_vertex(u);
+                self.prefetch_fan_records(u);
             }
             // An emitting vertex relaxes its neighbours: their records,
             // once its fan's (asked for above) has arrived.
@@ -1112,7 +1113,7 @@ impl<'a> Solver<'a> {
     /// Asks for the records `select` reads of vertex `u`: its state and
     /// arrival, its fan's faces, their job records, list slots and kinds.
     #[inline]
-    fn prefetch_vertex(&self, u: u32) {
+    fn prefetch_fan_records(&self, u: u32) {
         geodesics_mesh::prefetch(&self.verts, u as usize);
         geodesics_mesh::prefetch(&self.arrival, u as usize);
         if (u as usize) < self.mesh.vertex_count() {
@@ -1208,19 +1209,9 @@ impl<'a> Solver<'a> {
             None
         };
         for (h, rays) in Shadow::fan_rays(shadow, mesh, around()) {
-            // The head of `h` comes back to v along its twin, the tail of
-            // the half-edge before `h` along that half-edge.
-            let p = Mesh::prev(h);
-            let to_head = mesh
-                .twin(h)
-                .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
-            self.relax(mesh.head(h), d + mesh.length(h), s, to_head);
-            self.relax(
-                mesh.tail(p),
-                d + mesh.length(p),
-                s,
-                Arrival::Edge { half_edge: p },
-            );
+            for (u, len, arrival) in corner_neighbours(mesh, h) {
+                self.relax(u, d + len, s, arrival);
+            }
             if let Some(rays) = rays
                 && self.kind[Mesh::face_of(h) as usize] == FaceKind::Proper
             {

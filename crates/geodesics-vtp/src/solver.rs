@@ -11,7 +11,7 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, Shadow, SolverSetup, Source, Stats, Tolerance,
-    Triangle, VertexState, pseudo_source_window, seeds, validate_sources,
+    Triangle, VertexState, corner_neighbours, pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 
@@ -336,15 +336,6 @@ impl<'a> Solver<'a> {
                     geodesics_mesh::prefetch(&self.arrival, u as usize);
                 }
                 self.prefetched = seen;
-                // The heap's next two levels: their fans, and where the
-                // fans of the level after start, so that asking for a
-                // fan's faces above does not wait on the fan.
-                for u in self.heap.upcoming(7).skip(3) {
-                    mesh.prefetch_fan_list(u);
-                }
-                for u in self.heap.upcoming(15).skip(7) {
-                    mesh.prefetch_vertex(u);
-                }
                 // The faces around v join the traversed area; the lists
                 // waiting to enter them propagate now. (A list enters the
                 // face of its half-edge, so these are the lists on the
@@ -489,20 +480,12 @@ impl<'a> Solver<'a> {
         // check children meet drops them before they are queued.
         let check_now = shadow.is_none() && self.options.pruning.vertex_check;
         for (h, rays) in Shadow::fan_rays(shadow, mesh, fan) {
-            let a = mesh.head(h);
-            let p = Mesh::prev(h);
-            let b = mesh.tail(p);
-            let (la, lb) = (mesh.length(h), mesh.length(p));
-            // a comes back to v along the twin of h, b along p.
-            let back_to_v = mesh
-                .twin(h)
-                .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
-            self.relax(a, d + la, s, back_to_v, || Provenance::Vertex {
+            let [(a, la, back_a), (b, lb, back_b)] = corner_neighbours(mesh, h);
+            self.relax(a, d + la, s, back_a, || Provenance::Vertex {
                 from: v,
                 length: la,
             });
-            let along = Arrival::Edge { half_edge: p };
-            self.relax(b, d + lb, s, along, || Provenance::Vertex {
+            self.relax(b, d + lb, s, back_b, || Provenance::Vertex {
                 from: v,
                 length: lb,
             });

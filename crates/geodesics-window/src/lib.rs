@@ -62,7 +62,7 @@ mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
 pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState};
-pub use shadow::{ALL_RAYS, Arrival, Shadow, pseudo_source_window};
+pub use shadow::{ALL_RAYS, Arrival, Shadow, corner_neighbours, pseudo_source_window};
 pub use sources::{
     Seeds, SourceError, SourceStart, barycentric_ok, seeds, source_start, validate_sources,
 };

@@ -972,6 +972,7 @@ fn push_checked<const OLD: bool>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use geodesics_shapes::SplitMix64;
 
     fn tol() -> Tolerance {
         Tolerance::for_scale(1.0)
@@ -1340,13 +1341,8 @@ mod tests {
     fn long_batches_of_a_few_runs_sort_as_a_stable_sort_would() {
         // Up to four runs, each in order, starts drawn from a few values
         // so that ties are common; `sigma` tells equal starts apart.
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = |m: u64| {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 33) % m
-        };
+        let mut rng = SplitMix64::new(0x2545_f491_4f6c_dd1d);
+        let mut next = |m: u64| rng.next_u64() % m;
         let mut scratch = Vec::new();
         for round in 0..300 {
             let runs = 1 + round % 4;

@@ -201,6 +201,24 @@ impl Shadow {
     }
 }
 
+/// The two other corners of the face of `h` as seen from its tail `v`
+/// (a pseudo-source relaxing its neighbours along the edges): each vertex,
+/// the length of its edge to `v`, and how a path from `v` along that edge
+/// arrives there. The head of `h` comes back to `v` along the twin of `h`
+/// (unknown on a boundary), the tail of the half-edge before `h` along
+/// that half-edge.
+#[inline]
+pub fn corner_neighbours(mesh: &Mesh, h: u32) -> [(u32, f64, Arrival); 2] {
+    let p = Mesh::prev(h);
+    let back_along_h = mesh
+        .twin(h)
+        .map_or(Arrival::Unknown, |t| Arrival::Edge { half_edge: t });
+    [
+        (mesh.head(h), mesh.length(h), back_along_h),
+        (mesh.tail(p), mesh.length(p), Arrival::Edge { half_edge: p }),
+    ]
+}
+
 /// Every ray of a corner: `(0, ∞)` for [`pseudo_source_window`].
 pub const ALL_RAYS: (f64, f64) = (0.0, f64::INFINITY);
 
@@ -272,6 +290,31 @@ mod tests {
 
     fn tol() -> Tolerance {
         Tolerance::for_scale(1.0)
+    }
+
+    #[test]
+    fn corner_neighbours_are_the_face_s_other_corners_each_pointing_back() {
+        let mesh = saddle(6, 0.2);
+        for &h in mesh.fan(0) {
+            let [(a, la, back_a), (b, lb, back_b)] = corner_neighbours(&mesh, h);
+            let mut others: Vec<u32> = mesh.face(Mesh::face_of(h)).into_iter().collect();
+            others.retain(|&u| u != 0);
+            assert_eq!(others.len(), 2);
+            assert!(others.contains(&a) && others.contains(&b) && a != b);
+            for (u, l, back) in [(a, la, back_a), (b, lb, back_b)] {
+                assert_eq!(
+                    l,
+                    (mesh.position(u) - mesh.position(0)).length(),
+                    "vertex {u}"
+                );
+                // An outgoing half-edge of the vertex reached, pointing back
+                // to 0 (closed mesh: every edge has a twin).
+                let Arrival::Edge { half_edge: g } = back else {
+                    panic!("vertex {u}: arrival {back:?}");
+                };
+                assert_eq!((mesh.tail(g), mesh.head(g)), (u, 0));
+            }
+        }
     }
 
     #[test]
