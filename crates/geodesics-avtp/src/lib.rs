@@ -24,6 +24,12 @@
 //! All reset state belongs to the solve: the mesh is never marked, so solves
 //! from other sources on the same mesh are unaffected.
 //!
+//! A reset costs time in proportion to what changed since the previous one
+//! (the vertices that join the reset front, the lists that grew), not to
+//! the length of the wavefront, so a tiny λ, which resets at every vertex,
+//! stays far faster than exact VTP (the 557K-vertex subdivided bunny at
+//! λ = 0.01: 0.46 s; rescanning the wavefront took 5.4 s, as long as VTP).
+//!
 //! **PAVTP**: with [`AvtpOptions::threads`] set, the same reset runs on top
 //! of parallel VTP (`geodesics-pvtp`), between its rounds; the result is
 //! deterministic for a given thread count (and, like AVTP, never below

@@ -42,9 +42,9 @@ use geodesics_window::prune::{
     MergeBuffers, beaten_from_edge_ends, merge_sorted, one_angle_two_sides, vertex_check_ended,
 };
 use geodesics_window::{
-    Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Shadow, SolverSetup, Source, Stats,
-    Tolerance, Triangle, VertexState, WindowReset, corner_neighbours, pseudo_source_window, seeds,
-    validate_sources,
+    Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, ResetFront, Shadow, SolverSetup,
+    Source, Stats, Tolerance, Triangle, VertexState, corner_neighbours, pseudo_source_window,
+    seeds, validate_sources,
 };
 use glam::DVec2;
 use rayon::prelude::*;
@@ -679,15 +679,8 @@ pub(crate) struct Solver<'a> {
     live: u64,
     stats: Stats,
     parallel_seconds: f64,
-    /// PAVTP: the reset settings, the distance of the next reset, the
-    /// vertices given a distance while outside (the wavefront, with stale
-    /// entries), the last reset that made each vertex a pseudo-source.
-    reset: Option<WindowReset>,
-    next_reset: Option<f64>,
-    front: Vec<u32>,
-    reset_round: Vec<u32>,
-    resets: u32,
-    mean_edge: f64,
+    /// PAVTP: which vertices the resets restart, which lists they empty.
+    reset: Option<ResetFront>,
 }
 
 impl<'a> Solver<'a> {
@@ -753,16 +746,9 @@ impl<'a> Solver<'a> {
             live: 0,
             stats: Stats::default(),
             parallel_seconds: 0.0,
-            reset: options.reset,
-            next_reset: options.reset.map(|r| r.lambda * mesh.average_edge_length()),
-            front: Vec::new(),
-            reset_round: if options.reset.is_some() {
-                vec![0; nv]
-            } else {
-                Vec::new()
-            },
-            resets: 0,
-            mean_edge: mesh.average_edge_length(),
+            reset: options
+                .reset
+                .map(|r| ResetFront::new(r, mesh.average_edge_length(), nv)),
         }
     }
 
@@ -822,11 +808,11 @@ impl<'a> Solver<'a> {
     #[inline]
     fn set_dist(&mut self, v: u32, d: f64, s: u32) {
         let vi = v as usize;
-        if self.next_reset.is_some()
+        if let Some(reset) = &mut self.reset
             && self.verts[vi].dist == f64::INFINITY
             && !self.verts[vi].inside
         {
-            self.front.push(v);
+            reset.reached(v);
         }
         let x = &mut self.verts[vi];
         x.dist = d;
@@ -860,6 +846,11 @@ impl<'a> Solver<'a> {
         if after == 0 {
             slot_set(slots, main, NO_LIST);
             self.free.push(idx);
+        }
+        if after > 0
+            && let Some(reset) = &mut self.reset
+        {
+            reset.grown(h);
         }
         self.live = self.live + after as u64 - before as u64;
         self.stats.peak_live_windows = self.stats.peak_live_windows.max(self.live);
@@ -1053,9 +1044,7 @@ impl<'a> Solver<'a> {
             {
                 break;
             }
-            if let Some(next) = self.next_reset
-                && d > next
-            {
+            if self.reset.as_ref().is_some_and(|r| r.is_due(d)) {
                 self.reset_windows(d);
             }
             self.buckets.pop();
@@ -1133,56 +1122,31 @@ impl<'a> Solver<'a> {
     /// pseudo-source and the windows waiting between two such vertices are
     /// deleted. The same rule as `geodesics-vtp`'s sequential AVTP.
     fn reset_windows(&mut self, d: f64) {
-        let Some(reset) = self.reset else {
+        let Some(mut reset) = self.reset.take() else {
             return;
         };
-        let mesh = self.mesh;
-        let step = reset.lambda * self.mean_edge;
-        let steps = (d / step).floor();
-        self.next_reset = Some((steps + 1.0) * step);
-        let guard = steps * step + reset.lambda_g * self.mean_edge;
-        self.resets += 1;
-        let round = self.resets;
         let verts = &self.verts;
-        self.front.retain(|&v| !verts[v as usize].inside);
-        let front = std::mem::take(&mut self.front);
-        for &v in &front {
-            if self.verts[v as usize].dist <= guard {
-                self.reset_round[v as usize] = round;
-                self.force_pseudo(v);
-                // Read below: ask for all the fans at once.
-                mesh.prefetch_fan(v);
-            }
+        let joined = reset.advance(d, |v| verts[v as usize].inside, |v| verts[v as usize].dist);
+        for &v in joined {
+            self.force_pseudo(v);
         }
+        let verts = &self.verts;
         let mut dropped = 0u64;
-        for &v in &front {
-            if self.reset_round[v as usize] != round {
-                continue;
-            }
-            for &h in mesh.fan(v) {
-                let p = Mesh::prev(h);
-                for (e, other) in [(h, mesh.head(h)), (p, mesh.tail(p))] {
-                    if self.reset_round[other as usize] != round {
-                        continue;
-                    }
-                    for t in std::iter::once(e).chain(mesh.twin(e)) {
-                        for which in 0..2 {
-                            let Some(idx) = take_slot(&self.slots[t as usize], which) else {
-                                continue;
-                            };
-                            let list = self.pool[idx as usize]
-                                .get_mut()
-                                .unwrap_or_else(PoisonError::into_inner);
-                            dropped += list.len() as u64;
-                            list.clear();
-                            self.free.push(idx);
-                        }
-                    }
-                }
+        for &t in reset.lists_to_empty(self.mesh, |v| verts[v as usize].inside) {
+            for which in 0..2 {
+                let Some(idx) = take_slot(&self.slots[t as usize], which) else {
+                    continue;
+                };
+                let list = self.pool[idx as usize]
+                    .get_mut()
+                    .unwrap_or_else(PoisonError::into_inner);
+                dropped += list.len() as u64;
+                list.clear();
+                self.free.push(idx);
             }
         }
         self.live = self.live.saturating_sub(dropped);
-        self.front = front;
+        self.reset = Some(reset);
     }
 
     /// Pseudo-source `v`: relaxes its neighbours along the edges now (as
@@ -1335,6 +1299,11 @@ impl<'a> Solver<'a> {
                 self.relax(v, d, s, arrival);
             }
             for &(t, flags) in &out.targets {
+                if flags & TOUCHED != 0
+                    && let Some(reset) = &mut self.reset
+                {
+                    reset.grown(t);
+                }
                 if flags & TO_SIDE != 0 {
                     // Its main list was taken in this phase: the side list
                     // becomes the main one.

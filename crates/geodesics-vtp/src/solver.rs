@@ -10,8 +10,9 @@ use geodesics_window::prune::{
     one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
-    Arrival, DistanceField, EndedWindow, FaceKind, Shadow, SolverSetup, Source, Stats, Tolerance,
-    Triangle, VertexState, corner_neighbours, pseudo_source_window, seeds, validate_sources,
+    Arrival, DistanceField, EndedWindow, FaceKind, ResetFront, Shadow, SolverSetup, Source, Stats,
+    Tolerance, Triangle, VertexState, corner_neighbours, pseudo_source_window, seeds,
+    validate_sources,
 };
 use glam::DVec2;
 
@@ -67,16 +68,8 @@ struct Solver<'a> {
     lists_processed: u64,
     /// Per vertex: how its distance was last set (only when recording).
     prov: Vec<Provenance>,
-    /// AVTP: the distance at which the next window reset happens.
-    next_reset: Option<f64>,
-    /// AVTP: vertices given a finite distance while outside (the wavefront,
-    /// with stale entries for vertices since popped).
-    front: Vec<u32>,
-    /// AVTP: per vertex, the last reset that made it a pseudo-source.
-    reset_round: Vec<u32>,
-    resets: u32,
-    /// Mean edge length h.
-    mean_edge: f64,
+    /// AVTP: which vertices the resets restart, which lists they empty.
+    reset: Option<ResetFront>,
     /// The default merge (adjacent pairs, lists in edge order), decided
     /// once: the options sit behind a pointer and every append asks.
     sorted_merge: bool,
@@ -169,15 +162,7 @@ impl<'a> Solver<'a> {
             } else {
                 Vec::new()
             },
-            next_reset: options.reset.map(|r| r.lambda * mean_edge),
-            front: Vec::new(),
-            reset_round: if options.reset.is_some() {
-                vec![0; nv]
-            } else {
-                Vec::new()
-            },
-            resets: 0,
-            mean_edge,
+            reset: options.reset.map(|r| ResetFront::new(r, mean_edge, nv)),
             sorted_merge: options.pruning.pairs == PairRule::Adjacent
                 && options.merge == Merge::Sorted,
             face_heap: BinaryHeap::new(),
@@ -272,8 +257,11 @@ impl<'a> Solver<'a> {
     #[inline]
     fn set_dist(&mut self, v: u32, d: f64, s: u32) {
         let x = &mut self.verts[v as usize];
-        if self.next_reset.is_some() && x.dist == f64::INFINITY && !x.inside {
-            self.front.push(v);
+        if let Some(reset) = &mut self.reset
+            && x.dist == f64::INFINITY
+            && !x.inside
+        {
+            reset.reached(v);
         }
         x.dist = d;
         x.src = s;
@@ -304,9 +292,7 @@ impl<'a> Solver<'a> {
             {
                 break;
             }
-            if let Some(next) = self.next_reset
-                && d > next
-            {
+            if self.reset.as_ref().is_some_and(|r| r.is_due(d)) {
                 self.reset_windows(d);
             }
             // Read after the reset, which may have made v a pseudo-source.
@@ -401,48 +387,20 @@ impl<'a> Solver<'a> {
     /// edges between two such vertices are deleted. `d` is the distance of
     /// the vertex just popped, which crossed (it is still on the wavefront).
     fn reset_windows(&mut self, d: f64) {
-        let Some(reset) = self.options.reset else {
+        let Some(mut reset) = self.reset.take() else {
             return;
         };
-        let mesh = self.mesh;
-        let step = reset.lambda * self.mean_edge;
-        // The wavefront may jump over several steps at once: advance to the
-        // one just below d.
-        let steps = (d / step).floor();
-        let boundary = steps * step;
-        self.next_reset = Some((steps + 1.0) * step);
-        let guard = boundary + reset.lambda_g * self.mean_edge;
-        self.resets += 1;
-        let round = self.resets;
         let verts = &self.verts;
-        self.front.retain(|&v| !verts[v as usize].inside);
-        let front = std::mem::take(&mut self.front);
-        for &v in &front {
-            if self.verts[v as usize].dist <= guard {
-                self.reset_round[v as usize] = round;
-                self.force_pseudo(v);
-                // Read below: ask for all the fans at once.
-                mesh.prefetch_fan(v);
-            }
+        let inside = |v: u32| verts[v as usize].inside;
+        let joined = reset.advance(d, inside, |v| verts[v as usize].dist);
+        for &v in joined {
+            self.force_pseudo(v);
         }
-        for &v in &front {
-            if self.reset_round[v as usize] != round {
-                continue;
-            }
-            for &h in mesh.fan(v) {
-                let p = Mesh::prev(h);
-                for (e, other) in [(h, mesh.head(h)), (p, mesh.tail(p))] {
-                    if self.reset_round[other as usize] != round {
-                        continue;
-                    }
-                    self.drop_list(e);
-                    if let Some(t) = mesh.twin(e) {
-                        self.drop_list(t);
-                    }
-                }
-            }
+        let verts = &self.verts;
+        for &h in reset.lists_to_empty(self.mesh, |v| verts[v as usize].inside) {
+            self.drop_list(h);
         }
-        self.front = front;
+        self.reset = Some(reset);
     }
 
     /// Deletes the windows waiting on half-edge `h` (AVTP's reset).
@@ -595,6 +553,9 @@ impl<'a> Solver<'a> {
             self.slot[hi] = NO_LIST | (self.slot[hi] & QUEUED);
             self.free.push(idx);
             return;
+        }
+        if let Some(reset) = &mut self.reset {
+            reset.grown(h);
         }
         match self.options.schedule {
             Schedule::VertexSorted => {

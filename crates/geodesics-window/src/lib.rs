@@ -14,6 +14,8 @@
 //! - [`prune`]: the pairwise and vertex pruning predicates of Qin et al. 2016.
 //! - [`Shadow`]: the directions a saddle vertex's pseudo-source windows can
 //!   light first, from how its shortest path arrived ([`Arrival`]).
+//! - [`ResetFront`]: AVTP's wavefront reset, which vertices it restarts and
+//!   which lists it empties.
 //! - [`Tolerance`]: the one tolerance policy, relative to the mesh scale.
 //! - [`Source`], [`DistanceField`], [`Stats`]: what every solver takes and
 //!   returns; [`GeodesicPath`] and [`SurfacePoint`]: the paths they trace.
@@ -53,6 +55,7 @@
 
 mod path;
 pub mod prune;
+mod reset;
 mod setup;
 mod shadow;
 mod sources;
@@ -61,6 +64,7 @@ mod types;
 mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
+pub use reset::ResetFront;
 pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState};
 pub use shadow::{ALL_RAYS, Arrival, Shadow, corner_neighbours, pseudo_source_window};
 pub use sources::{
