@@ -171,9 +171,12 @@ fn prune_append(
     list.len()
 }
 
-/// Per-face bookkeeping, packed so that the sequential parts touch one
-/// cache line per face.
-#[derive(Clone, Copy, Debug)]
+/// Per-face bookkeeping and the list slots of the face's half-edges, in
+/// one cache line: selecting a face, running its job and merging into the
+/// list beyond an edge each read the state and the slots together (apart,
+/// they were two cache misses).
+#[derive(Debug)]
+#[repr(C, align(64))]
 struct FaceRec {
     /// The phase for which the face has a job, and that job's index.
     job_phase: u32,
@@ -185,6 +188,29 @@ struct FaceRec {
     /// the main one (they swap when the side list received windows while
     /// the main one was taken).
     state: [u32; 3],
+    /// Per half-edge `3f + i`: its two lists.
+    slots: [ListSlots; 3],
+}
+
+impl FaceRec {
+    fn new() -> FaceRec {
+        let empty = || [AtomicU32::new(NO_LIST), AtomicU32::new(NO_LIST)];
+        FaceRec {
+            job_phase: NONE,
+            job: NONE,
+            entered: NONE,
+            state: [0; 3],
+            slots: [empty(), empty(), empty()],
+        }
+    }
+}
+
+const _: () = assert!(std::mem::size_of::<FaceRec>() == 64);
+
+/// The lists of half-edge `h`.
+#[inline]
+fn slots_of(faces: &[FaceRec], h: u32) -> &ListSlots {
+    &faces[(h / 3) as usize].slots[(h % 3) as usize]
 }
 
 /// Read-only state shared by the jobs of a phase.
@@ -193,7 +219,6 @@ struct Shared<'a> {
     tol: Tolerance,
     kind: &'a [FaceKind],
     verts: &'a [VertexState],
-    slots: &'a [ListSlots],
     pool: &'a [PooledList],
     faces: &'a [FaceRec],
     jobs: &'a [JobIn],
@@ -341,7 +366,6 @@ impl Worker {
             if let Some(&next) = sh.claim_order.get(pos + 2) {
                 let f = sh.jobs[next as usize].face;
                 sh.mesh.prefetch_face(f);
-                geodesics_mesh::prefetch(sh.slots, 3 * f as usize);
                 geodesics_mesh::prefetch(sh.faces, f as usize);
             }
             if self.used == self.outs.len() {
@@ -406,7 +430,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
     let emissions = sh.emissions.get(job.emit as usize);
     let has_list = |i: u32| {
         job.mask & (1 << i) != 0
-            && sh.slots[(3 * f + i) as usize]
+            && sh.faces[f as usize].slots[i as usize]
                 .iter()
                 .any(|slot| slot.load(Ordering::Relaxed) != NO_LIST)
     };
@@ -450,7 +474,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         }
         let h = 3 * f + i as u32;
         let main = (sh.faces[f as usize].state[i] & 1) as usize;
-        let Some(idx) = take_slot(&sh.slots[h as usize], main) else {
+        let Some(idx) = take_slot(&sh.faces[f as usize].slots[i], main) else {
             continue;
         };
         let mut list = lock(&sh.pool[idx as usize]);
@@ -509,10 +533,11 @@ fn append_beyond(
     let Some(t) = sh.mesh.twin(3 * f + e as u32) else {
         return;
     };
-    let st = sh.faces[(t / 3) as usize].state[(t % 3) as usize];
+    let beyond = &sh.faces[(t / 3) as usize];
+    let st = beyond.state[(t % 3) as usize];
     let to_side = st >> 1 == sh.phase;
     let which = (st & 1) as usize ^ usize::from(to_side);
-    let slots = &sh.slots[t as usize];
+    let slots = &beyond.slots[(t % 3) as usize];
     let idx = claim_slot(slots, which, || {
         s.free
             .pop()
@@ -641,7 +666,6 @@ pub(crate) struct Solver<'a> {
     group_of: Vec<u32>,
     groups: Vec<Vec<u32>>,
     buckets: Buckets,
-    slots: Vec<ListSlots>,
     pool: Vec<PooledList>,
     /// Pool entries no list or worker holds.
     free: Vec<u32>,
@@ -686,7 +710,6 @@ pub(crate) struct Solver<'a> {
 impl<'a> Solver<'a> {
     pub(crate) fn new(mesh: &'a Mesh, options: &PvtpOptions, threads: usize) -> Self {
         let tol = Tolerance::for_mesh(mesh);
-        let nh = mesh.half_edge_count();
         let nf = mesh.face_count();
         let nv = mesh.vertex_count();
         let setup = SolverSetup::new(mesh, &tol);
@@ -713,20 +736,9 @@ impl<'a> Solver<'a> {
             group_of,
             groups,
             buckets: Buckets::new(width, cap),
-            slots: (0..nh)
-                .map(|_| [AtomicU32::new(NO_LIST), AtomicU32::new(NO_LIST)])
-                .collect(),
             pool: Vec::new(),
             free: Vec::new(),
-            faces: vec![
-                FaceRec {
-                    job_phase: NONE,
-                    job: NONE,
-                    entered: NONE,
-                    state: [0; 3],
-                };
-                nf
-            ],
+            faces: (0..nf).map(|_| FaceRec::new()).collect(),
             pending: Vec::new(),
             current: Vec::new(),
             pending_emissions: Vec::new(),
@@ -836,7 +848,7 @@ impl<'a> Solver<'a> {
     /// Appends to the main list of half-edge `h` outside a phase (seeds).
     fn append_now(&mut self, h: u32, windows: &mut [EndedWindow]) {
         let main = (self.faces[(h / 3) as usize].state[(h % 3) as usize] & 1) as usize;
-        let slots = &self.slots[h as usize];
+        let slots = slots_of(&self.faces, h);
         let idx = claim_slot(slots, main, || take_entry(&mut self.free, &mut self.pool));
         let list = self.pool[idx as usize]
             .get_mut()
@@ -907,7 +919,7 @@ impl<'a> Solver<'a> {
         let mut mask = 0;
         for (i, st) in rec.state.iter_mut().enumerate() {
             let main = (*st & 1) as usize;
-            if slot_get(&self.slots[3 * f as usize + i], main) != NO_LIST {
+            if slot_get(&rec.slots[i], main) != NO_LIST {
                 *st = phase << 1 | (*st & 1);
                 mask |= 1 << i;
             }
@@ -996,7 +1008,6 @@ impl<'a> Solver<'a> {
             tol: self.tol,
             kind: &self.kind,
             verts: &self.verts,
-            slots: &self.slots,
             pool: &self.pool,
             faces: &self.faces,
             jobs: &self.current,
@@ -1110,7 +1121,6 @@ impl<'a> Solver<'a> {
                 let f = Mesh::face_of(h);
                 self.mesh.prefetch_face(f);
                 geodesics_mesh::prefetch(&self.faces, f as usize);
-                geodesics_mesh::prefetch(&self.slots, 3 * f as usize);
                 geodesics_mesh::prefetch(&self.kind, f as usize);
             }
         }
@@ -1134,7 +1144,7 @@ impl<'a> Solver<'a> {
         let mut dropped = 0u64;
         for &t in reset.lists_to_empty(self.mesh, |v| verts[v as usize].inside) {
             for which in 0..2 {
-                let Some(idx) = take_slot(&self.slots[t as usize], which) else {
+                let Some(idx) = take_slot(slots_of(&self.faces, t), which) else {
                     continue;
                 };
                 let list = self.pool[idx as usize]
