@@ -27,6 +27,23 @@ const NONE: u32 = u32::MAX;
 const QUEUED: u32 = 1 << 31;
 const NO_LIST: u32 = QUEUED - 1;
 
+/// Per face: the list words of its half-edges `3f + i` (their lists'
+/// indices in the pool, and whether they are queued) and the pop at which
+/// it joined the traversed area. Together, as they are read together:
+/// entering a face looks at all four, crossing one reads its list's word
+/// and the entry pop.
+type FaceLists = [u32; 4];
+
+/// Where the entry pop of a face sits in its [`FaceLists`].
+const ENTERED: usize = 3;
+
+/// Where the list word of half-edge `h` sits in the flattened face
+/// records: `4·(h / 3) + h % 3`.
+#[inline]
+fn slot_index(h: u32) -> usize {
+    (h + h / 3) as usize
+}
+
 /// One window list in this many has its phases timed; the phase times are
 /// scaled up accordingly (an estimate, unbiased over many lists).
 const PHASE_SAMPLE: u64 = 32;
@@ -44,14 +61,11 @@ struct Solver<'a> {
     group_of: Vec<u32>,
     groups: Vec<Vec<u32>>,
     heap: VertexQueue,
-    /// Per half-edge: its list in `pool` and whether it is queued (see
-    /// `QUEUED`).
-    slot: Vec<u32>,
+    /// Per face: its half-edges' lists and when it was entered.
+    faces: Vec<FaceLists>,
     pool: Vec<Vec<EndedWindow>>,
     free: Vec<u32>,
     fifo: VecDeque<u32>,
-    /// Per face: the pop number at which it joined the traversed area.
-    entered: Vec<u32>,
     pops: u32,
     live: u64,
     stats: Stats,
@@ -120,7 +134,6 @@ fn validate(mesh: &Mesh, sources: &[Source], options: &VtpOptions) -> Result<(),
 impl<'a> Solver<'a> {
     fn new(mesh: &'a Mesh, options: &'a VtpOptions) -> Self {
         let tol = Tolerance::for_mesh(mesh);
-        let nh = mesh.half_edge_count();
         let nf = mesh.face_count();
         let nv = mesh.vertex_count();
         let setup = SolverSetup::new(mesh, &tol);
@@ -142,11 +155,10 @@ impl<'a> Solver<'a> {
             group_of,
             groups,
             heap: VertexQueue::new(nv),
-            slot: vec![NO_LIST; nh],
+            faces: vec![[NO_LIST, NO_LIST, NO_LIST, NONE]; nf],
             pool: Vec::new(),
             free: Vec::new(),
             fifo: VecDeque::new(),
-            entered: vec![NONE; nf],
             pops: 0,
             live: 0,
             stats: Stats::default(),
@@ -329,8 +341,9 @@ impl<'a> Solver<'a> {
                 // fan too.)
                 for &h in mesh.fan(v) {
                     let f = Mesh::face_of(h);
-                    if self.entered[f as usize] == NONE {
-                        self.entered[f as usize] = self.pops;
+                    let rec = &mut self.faces[f as usize];
+                    if rec[ENTERED] == NONE {
+                        rec[ENTERED] = self.pops;
                     }
                     for e in 3 * f..3 * f + 3 {
                         self.enqueue(e);
@@ -366,11 +379,11 @@ impl<'a> Solver<'a> {
         }
         self.face_heap.pop();
         let fi = f as usize;
-        if self.entered[fi] != NONE || self.face_key[fi].to_bits() != key {
+        if self.faces[fi][ENTERED] != NONE || self.face_key[fi].to_bits() != key {
             return true; // stale
         }
         self.pops += 1;
-        self.entered[fi] = self.pops;
+        self.faces[fi][ENTERED] = self.pops;
         for e in 3 * f..3 * f + 3 {
             self.enqueue(e);
         }
@@ -405,12 +418,12 @@ impl<'a> Solver<'a> {
 
     /// Deletes the windows waiting on half-edge `h` (AVTP's reset).
     fn drop_list(&mut self, h: u32) {
-        let hi = h as usize;
-        let idx = self.slot[hi] & !QUEUED;
+        let slot = self.slot_mut(h);
+        let idx = *slot & !QUEUED;
         if idx == NO_LIST {
             return;
         }
-        self.slot[hi] = NO_LIST;
+        *slot = NO_LIST;
         let list = &mut self.pool[idx as usize];
         self.live -= list.len() as u64;
         list.clear();
@@ -467,9 +480,21 @@ impl<'a> Solver<'a> {
         }
     }
 
+    /// The list word of half-edge `h`: its index in `pool` and whether it
+    /// is queued (see `QUEUED`).
+    #[inline]
+    fn slot(&self, h: u32) -> u32 {
+        self.faces.as_flattened()[slot_index(h)]
+    }
+
+    #[inline]
+    fn slot_mut(&mut self, h: u32) -> &mut u32 {
+        &mut self.faces.as_flattened_mut()[slot_index(h)]
+    }
+
     #[inline]
     fn enqueue(&mut self, h: u32) {
-        let s = &mut self.slot[h as usize];
+        let s = self.slot_mut(h);
         if *s & QUEUED == 0 && *s != NO_LIST {
             *s |= QUEUED;
             self.fifo.push_back(h);
@@ -488,8 +513,7 @@ impl<'a> Solver<'a> {
         if windows.is_empty() {
             return;
         }
-        let hi = h as usize;
-        let mut idx = self.slot[hi] & !QUEUED;
+        let mut idx = self.slot(h) & !QUEUED;
         if idx == NO_LIST {
             idx = match self.free.pop() {
                 Some(i) => i,
@@ -502,7 +526,8 @@ impl<'a> Solver<'a> {
             };
             // Keeps the queued bit: the half-edge may still wait in the
             // FIFO from a list that emptied.
-            self.slot[hi] = idx | (self.slot[hi] & QUEUED);
+            let slot = self.slot_mut(h);
+            *slot = idx | (*slot & QUEUED);
         }
         let list = &mut self.pool[idx as usize];
         let before = list.len();
@@ -550,7 +575,8 @@ impl<'a> Solver<'a> {
             self.stats.peak_live_windows = self.live;
         }
         if after == 0 {
-            self.slot[hi] = NO_LIST | (self.slot[hi] & QUEUED);
+            let slot = self.slot_mut(h);
+            *slot = NO_LIST | (*slot & QUEUED);
             self.free.push(idx);
             return;
         }
@@ -568,7 +594,7 @@ impl<'a> Solver<'a> {
             }
             Schedule::FaceSorted => {
                 let f = h / 3;
-                if self.entered[f as usize] != NONE {
+                if self.faces[f as usize][ENTERED] != NONE {
                     self.enqueue(h);
                 } else {
                     // FTP's triangle priority: the best path to the apex
@@ -591,9 +617,9 @@ impl<'a> Solver<'a> {
     /// vertex check), lights the apex, and merges the children into the
     /// lists beyond the two other edges.
     fn process(&mut self, h: u32) {
-        let hi = h as usize;
-        let idx = self.slot[hi] & !QUEUED;
-        self.slot[hi] = NO_LIST;
+        let slot = self.slot_mut(h);
+        let idx = *slot & !QUEUED;
+        *slot = NO_LIST;
         if idx == NO_LIST {
             return;
         }
@@ -678,7 +704,7 @@ impl<'a> Solver<'a> {
             });
         }
         let sp_s = info.get(s).map_or(0.0, |x| x.1);
-        let prime = self.entered[f as usize] == self.pops;
+        let prime = self.faces[f as usize][ENTERED] == self.pops;
         let rule1 = self.options.pruning.rule1;
         let check = self.options.pruning.vertex_check;
         let best_splits = info
