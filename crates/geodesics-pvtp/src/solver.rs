@@ -90,10 +90,12 @@ const PARALLEL_MIN_JOBS: usize = 24;
 const NO_LIST: u32 = u32::MAX;
 
 /// Flags of a list beyond a job's edge: windows were appended, to the
-/// side list, and the list has an end inside the traversed area.
+/// side list, the list has an end inside the traversed area, and (PAVTP)
+/// both its ends were restarted by a window reset.
 const TOUCHED: u8 = 1;
 const TO_SIDE: u8 = 2;
 const QUEUE: u8 = 4;
+const BETWEEN_RESET: u8 = 8;
 
 /// The two lists of one half-edge, as pool indices (`NO_LIST`: none):
 /// which one is the main list is bit 0 of its state word (see
@@ -224,6 +226,7 @@ struct Shared<'a> {
     jobs: &'a [JobIn],
     emissions: &'a [[Emission; 3]],
     claim_order: &'a [u32],
+    reset: Option<&'a ResetFront>,
     round: u32,
     phase: u32,
 }
@@ -553,9 +556,15 @@ fn append_beyond(
     }
     out.grown += after as i64 - before as i64;
     let queue = sh.verts[ends[0] as usize].inside || sh.verts[ends[1] as usize].inside;
+    let between_reset = sh
+        .reset
+        .is_some_and(|r| r.is_reset(ends[0]) && r.is_reset(ends[1]));
     out.targets[e] = (
         t,
-        TOUCHED | if to_side { TO_SIDE } else { 0 } | if queue { QUEUE } else { 0 },
+        TOUCHED
+            | if to_side { TO_SIDE } else { 0 }
+            | if queue { QUEUE } else { 0 }
+            | if between_reset { BETWEEN_RESET } else { 0 },
     );
 }
 
@@ -861,6 +870,8 @@ impl<'a> Solver<'a> {
         }
         if after > 0
             && let Some(reset) = &mut self.reset
+            && reset.is_reset(self.mesh.tail(h))
+            && reset.is_reset(self.mesh.head(h))
         {
             reset.grown(h);
         }
@@ -1013,6 +1024,7 @@ impl<'a> Solver<'a> {
             jobs: &self.current,
             emissions: &self.emissions,
             claim_order: &self.claim_order,
+            reset: self.reset.as_ref(),
             round: self.round,
             phase: self.phase,
         }
@@ -1309,7 +1321,7 @@ impl<'a> Solver<'a> {
                 self.relax(v, d, s, arrival);
             }
             for &(t, flags) in &out.targets {
-                if flags & TOUCHED != 0
+                if flags & BETWEEN_RESET != 0
                     && let Some(reset) = &mut self.reset
                 {
                     reset.grown(t);

@@ -580,7 +580,10 @@ impl<'a> Solver<'a> {
             self.free.push(idx);
             return;
         }
-        if let Some(reset) = &mut self.reset {
+        if let Some(reset) = &mut self.reset
+            && reset.is_reset(ends[0])
+            && reset.is_reset(ends[1])
+        {
             reset.grown(h);
         }
         match self.options.schedule {

@@ -18,9 +18,9 @@ use crate::WindowReset;
 ///
 /// - the reached vertices not yet reset (a new one joins when it enters
 ///   the band), and
-/// - the edges around the vertices that join, plus the lists that grew
-///   since the last reset (every other list between two reset vertices was
-///   emptied then and has stayed empty).
+/// - the edges around the vertices that join, plus the lists between two
+///   reset vertices that grew since the last reset (every other list
+///   between two reset vertices was emptied then and has stayed empty).
 ///
 /// Rescanning the whole wavefront at every reset instead made small λ
 /// quadratic: with `λ·h` below the edge lengths every pop resets, and the
@@ -61,8 +61,8 @@ pub struct ResetFront {
     waiting: Vec<u32>,
     /// The vertices the last [`ResetFront::advance`] reset.
     joined: Vec<u32>,
-    /// Half-edges whose lists received windows since the last reset
-    /// (repeats allowed).
+    /// Half-edges between two reset vertices whose lists received windows
+    /// since the last reset (repeats allowed).
     grown: Vec<u32>,
     /// The half-edges whose lists the current reset empties.
     to_empty: Vec<u32>,
@@ -94,7 +94,10 @@ impl ResetFront {
         self.waiting.push(v);
     }
 
-    /// The list of half-edge `h` received windows.
+    /// The list of half-edge `h`, whose ends were both reset (see
+    /// [`ResetFront::is_reset`]), received windows. Lists with an end not
+    /// reset need not be reported: if that end is reset later, the reset
+    /// looks at its edges anyway.
     #[inline]
     pub fn grown(&mut self, h: u32) {
         self.grown.push(h);
