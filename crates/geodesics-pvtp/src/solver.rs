@@ -192,10 +192,12 @@ struct FaceRec {
     state: [u32; 3],
     /// Per half-edge `3f + i`: its two lists.
     slots: [ListSlots; 3],
+    /// The worker whose queue takes the face's jobs (see [`face_owners`]).
+    owner: u32,
 }
 
 impl FaceRec {
-    fn new() -> FaceRec {
+    fn new(owner: u32) -> FaceRec {
         let empty = || [AtomicU32::new(NO_LIST), AtomicU32::new(NO_LIST)];
         FaceRec {
             job_phase: NONE,
@@ -203,6 +205,7 @@ impl FaceRec {
             entered: NONE,
             state: [0; 3],
             slots: [empty(), empty(), empty()],
+            owner,
         }
     }
 }
@@ -238,8 +241,11 @@ struct JobIn {
     /// Bit `i`: take the main list of half-edge `3·face + i`.
     mask: u8,
     /// Index of the face's corner emissions in the phase's table, or NONE
-    /// (most jobs: kept apart, so a job record is 12 bytes).
+    /// (most jobs: kept apart, so a job record is 16 bytes).
     emit: u32,
+    /// The face's owner, copied from its record when the job is made (the
+    /// phase's start sorts the jobs by it without a look at the faces).
+    owner: u32,
 }
 
 /// What a pseudo-source corner of a face job emits: a window made of the
@@ -692,9 +698,6 @@ pub(crate) struct Solver<'a> {
     /// The vertices `select` popped in this round: (vertex, first pop,
     /// emits).
     chosen: Vec<(u32, bool, bool)>,
-    /// Per face: the worker whose queue takes its jobs (empty for one
-    /// thread), see [`face_owners`].
-    owner: Vec<u32>,
     /// The current phase's jobs grouped by owner (indices into `current`),
     /// and each worker's range of it.
     claim_order: Vec<u32>,
@@ -747,14 +750,18 @@ impl<'a> Solver<'a> {
             buckets: Buckets::new(width, cap),
             pool: Vec::new(),
             free: Vec::new(),
-            faces: (0..nf).map(|_| FaceRec::new()).collect(),
+            faces: {
+                let owners = face_owners(mesh, threads);
+                (0..nf)
+                    .map(|f| FaceRec::new(owners.get(f).copied().unwrap_or(0)))
+                    .collect()
+            },
             pending: Vec::new(),
             current: Vec::new(),
             pending_emissions: Vec::new(),
             emissions: Vec::new(),
             order: Vec::new(),
             chosen: Vec::new(),
-            owner: face_owners(mesh, threads),
             claim_order: Vec::new(),
             bounds: Vec::new(),
             merge: MergeBuffers::default(),
@@ -897,6 +904,7 @@ impl<'a> Solver<'a> {
                 face: f,
                 mask: 0,
                 emit: NONE,
+                owner: rec.owner,
             });
         }
         rec.job as usize
@@ -1250,8 +1258,7 @@ impl<'a> Solver<'a> {
         let n = self.current.len();
         // A counting sort of the jobs by owner, in job order within each.
         let t = workers.len();
-        let owners = &self.owner;
-        let owner = |job: &JobIn| owners.get(job.face as usize).map_or(0, |&o| o as usize);
+        let owner = |job: &JobIn| job.owner as usize;
         self.bounds.clear();
         self.bounds.resize(t, (0, 0));
         for job in &self.current {
