@@ -65,6 +65,10 @@ pub(crate) struct Crew {
     /// Helpers parked (or about to park) waiting for a phase.
     parked: AtomicUsize,
     sleepers: Mutex<Vec<Thread>>,
+    /// More workers than the machine has CPUs: a waiting thread yields at
+    /// once and a helper parks at once, leaving the CPUs to the threads
+    /// with work (spinning, 64 threads on 2 CPUs ran 5× slower than 2).
+    oversubscribed: bool,
 }
 
 #[inline]
@@ -106,6 +110,7 @@ impl Crew {
             failed: AtomicBool::new(false),
             parked: AtomicUsize::new(0),
             sleepers: Mutex::new(Vec::new()),
+            oversubscribed: thread::available_parallelism().is_ok_and(|n| workers > n.get()),
         }
     }
 
@@ -166,7 +171,11 @@ impl Crew {
                     .take();
                 panic::resume_unwind(payload.unwrap_or_else(|| Box::new("a crew helper panicked")));
             }
-            waiting.pause();
+            if self.oversubscribed {
+                thread::yield_now();
+            } else {
+                waiting.pause();
+            }
         }
     }
 
@@ -209,7 +218,7 @@ impl Crew {
                 *seen = e;
                 return true;
             }
-            if !waiting.pause() || waiting.start.elapsed() < PARK_AFTER {
+            if !self.oversubscribed && (!waiting.pause() || waiting.start.elapsed() < PARK_AFTER) {
                 continue;
             }
             {

@@ -20,6 +20,19 @@ pub enum PvtpError {
         /// λ_g given.
         lambda_g: f64,
     },
+    /// More threads than [`max_threads`](crate::max_threads) allows: on a
+    /// machine with few CPUs the thread pool alone then takes minutes.
+    #[error(
+        "{threads} threads asked for; at most {max} on this machine ({cpus} logical CPUs; one thread per CPU is fastest)"
+    )]
+    TooManyThreads {
+        /// Threads asked for.
+        threads: usize,
+        /// The most allowed here.
+        max: usize,
+        /// Logical CPUs of this machine.
+        cpus: usize,
+    },
     /// The thread pool could not be created.
     #[error("cannot start a pool of {threads} threads: {message}")]
     ThreadPool {

@@ -22,9 +22,10 @@
 //! so jobs never wait for each other and the result does not depend on
 //! thread timing. (The per-list `Mutex` and the atomic slots only prove
 //! that exclusivity to the compiler; they are never contended.) A worker
-//! gives the lists it starts pool entries from its own free list, which
-//! the sequential part tops up before each phase to three per job, the
-//! most one job can start.
+//! gives the lists it starts pool entries from its own free list (the
+//! entries of the lists it consumed), or else from a shared reserve that
+//! the sequential part fills before each phase to three per job, the most
+//! one job can start.
 //!
 //! Vertex distances are frozen during a phase: jobs read them for the
 //! vertex checks and report their apex candidates; the sequential merge
@@ -33,8 +34,9 @@
 //! the next phase the lists that received children and have an end
 //! inside the traversed area, exactly when VTP would queue them.
 
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError, RwLock, RwLockReadGuard, RwLockWriteGuard};
+use std::thread;
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
@@ -85,6 +87,10 @@ const K_AD_MAX: usize = 1_000_000_000;
 /// Phases with fewer jobs than this run on the calling thread (same code,
 /// same result): waking the helpers would cost more than it saves.
 const PARALLEL_MIN_JOBS: usize = 24;
+
+/// Free pool entries a worker keeps between phases (the rest go back to
+/// the shared reserve): three per job of its usual share of a phase.
+const LOCAL_FREE_MAX: usize = 3 * LISTS_PER_THREAD;
 
 /// Slot value of a half-edge list that has no pool entry.
 const NO_LIST: u32 = u32::MAX;
@@ -229,6 +235,10 @@ struct Shared<'a> {
     jobs: &'a [JobIn],
     emissions: &'a [[Emission; 3]],
     claim_order: &'a [u32],
+    /// Free pool entries for lists a worker starts when its own free list
+    /// is empty: `reserve[..reserve_len]`, taken from the top.
+    reserve: &'a [u32],
+    reserve_len: &'a AtomicUsize,
     reset: Option<&'a ResetFront>,
     round: u32,
     phase: u32,
@@ -548,9 +558,14 @@ fn append_beyond(
     let which = (st & 1) as usize ^ usize::from(to_side);
     let slots = &beyond.slots[(t % 3) as usize];
     let idx = claim_slot(slots, which, || {
-        s.free
-            .pop()
-            .expect("the free list holds three entries per job of the phase")
+        s.free.pop().unwrap_or_else(|| {
+            let top = sh.reserve_len.fetch_sub(1, Ordering::Relaxed);
+            assert!(
+                top > 0,
+                "the reserve holds three entries per job of the phase, the most its jobs start"
+            );
+            sh.reserve[top - 1]
+        })
     });
     let mut list = lock(&sh.pool[idx as usize]);
     let before = list.len();
@@ -684,6 +699,10 @@ pub(crate) struct Solver<'a> {
     pool: Vec<PooledList>,
     /// Pool entries no list or worker holds.
     free: Vec<u32>,
+    /// Free pool entries the workers of a phase share (see
+    /// [`Shared::reserve`]).
+    reserve: Vec<u32>,
+    reserve_len: AtomicUsize,
     faces: Vec<FaceRec>,
     /// Jobs of the next phase, in scheduling order.
     pending: Vec<JobIn>,
@@ -750,6 +769,8 @@ impl<'a> Solver<'a> {
             buckets: Buckets::new(width, cap),
             pool: Vec::new(),
             free: Vec::new(),
+            reserve: Vec::new(),
+            reserve_len: AtomicUsize::new(0),
             faces: {
                 let owners = face_owners(mesh, threads);
                 (0..nf)
@@ -1032,6 +1053,8 @@ impl<'a> Solver<'a> {
             jobs: &self.current,
             emissions: &self.emissions,
             claim_order: &self.claim_order,
+            reserve: &self.reserve,
+            reserve_len: &self.reserve_len,
             reset: self.reset.as_ref(),
             round: self.round,
             phase: self.phase,
@@ -1230,21 +1253,27 @@ impl<'a> Solver<'a> {
         };
     }
 
-    /// Gives each worker three free pool entries per job of the coming
-    /// phase (the most one job can start: a list beyond each of its edges;
-    /// any worker may run every job), from the shared free list or a grown
-    /// pool, and takes back what a worker holds beyond twice that.
-    fn top_up_free_lists(&mut self, workers: &[Mutex<Worker>], jobs: usize) {
-        let need = 3 * jobs;
+    /// Fills the shared reserve to three free pool entries per job of the
+    /// coming phase (the most one job can start: a list beyond each of its
+    /// edges), from the workers' free lists beyond [`LOCAL_FREE_MAX`], the
+    /// solver's free list or a grown pool. What it costs does not grow
+    /// with the thread count: giving every worker three entries per job of
+    /// the phase (any worker may run every job) held `T × 3 × 100·T`
+    /// entries, and 1024 threads took seconds on a 2K-face mesh.
+    fn fill_reserve(&mut self, workers: &[Mutex<Worker>], jobs: usize) {
+        let left = *self.reserve_len.get_mut();
+        self.reserve.truncate(left);
         for m in workers {
             let free = &mut lock(m).scratch.free;
-            if free.len() > 2 * need {
-                self.free.extend(free.drain(2 * need..));
-            }
-            while free.len() < need {
-                free.push(take_entry(&mut self.free, &mut self.pool));
+            if free.len() > LOCAL_FREE_MAX {
+                self.reserve.extend(free.drain(LOCAL_FREE_MAX..));
             }
         }
+        while self.reserve.len() < 3 * jobs {
+            let idx = take_entry(&mut self.free, &mut self.pool);
+            self.reserve.push(idx);
+        }
+        *self.reserve_len.get_mut() = self.reserve.len();
     }
 
     /// Makes the selected jobs the current phase and queues each for the
@@ -1278,9 +1307,7 @@ impl<'a> Solver<'a> {
             b.1 += 1;
         }
         let parallel = n >= PARALLEL_MIN_JOBS && workers.len() > 1;
-        // A helper that wakes late may still take a job of a small phase,
-        // so every worker gets its entries.
-        self.top_up_free_lists(workers, n);
+        self.fill_reserve(workers, n);
         (n, parallel)
     }
 
@@ -1435,12 +1462,37 @@ fn take_entry(free: &mut Vec<u32>, pool: &mut Vec<PooledList>) -> u32 {
 }
 
 /// Checks the sources and options (the same refusals as VTP's).
+/// Refuses more threads than [`crate::max_threads`].
+pub(crate) fn check_thread_count(threads: usize) -> Result<(), PvtpError> {
+    let max = crate::max_threads();
+    if threads > max {
+        return Err(PvtpError::TooManyThreads {
+            threads,
+            max,
+            cpus: thread::available_parallelism().map_or(1, |n| n.get()),
+        });
+    }
+    Ok(())
+}
+
 pub(crate) fn validate(
     mesh: &Mesh,
     sources: &[Source],
     options: &PvtpOptions,
 ) -> Result<(), PvtpError> {
     validate_sources(mesh, sources, options.max_distance)?;
+    check_thread_count(if options.threads == 0 {
+        // What rayon will take: `RAYON_NUM_THREADS` if a positive number,
+        // else the logical CPUs (a pool of thousands takes seconds to
+        // start only to be refused).
+        std::env::var("RAYON_NUM_THREADS")
+            .ok()
+            .and_then(|n| n.trim().parse::<usize>().ok())
+            .filter(|&n| n > 0)
+            .unwrap_or(1)
+    } else {
+        options.threads
+    })?;
     if let Some(r) = options.reset
         && !r.is_usable()
     {
