@@ -258,6 +258,29 @@ mod tests {
     /// Two squares touching at one corner (a pinch vertex): paths pass
     /// through it, as in VTP; a second component stays unreachable.
     #[test]
+    fn vertices_reached_only_along_zero_area_faces_are_reached() {
+        // A strip of collinear points: every face has zero area, so no
+        // face gets a job and each round's vertices only relax their
+        // neighbours along the edges. The solve once stopped at the first
+        // round without jobs, leaving seven of ten vertices at ∞.
+        let soup = IndexedTriangles {
+            positions: (0..10)
+                .map(|i| DVec3::new(f64::from(i), 0.0, 0.0))
+                .collect(),
+            triangles: (0..8).map(|i| [i, i + 1, i + 2]).collect(),
+        };
+        let mesh = build(soup);
+        let reference = vtp(&mesh, &[Source::Vertex(0)]);
+        for threads in [1, 2] {
+            let field = run(&mesh, &[Source::Vertex(0)], threads);
+            for (v, (&d, &r)) in field.distance.iter().zip(&reference.distance).enumerate() {
+                assert_eq!(d, v as f64, "T={threads}: vertex {v}");
+                assert_eq!(d, r, "T={threads}: vertex {v} against VTP");
+            }
+        }
+    }
+
+    #[test]
     fn pinch_vertex_is_passed_and_other_components_stay_infinite() {
         let p = |x: f64, y: f64| DVec3::new(x, y, 0.0);
         let soup = IndexedTriangles {

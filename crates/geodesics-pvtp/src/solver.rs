@@ -1018,6 +1018,12 @@ impl<'a> Solver<'a> {
                 solver.select();
             }
             if solver.pending.is_empty() {
+                // A round can give no face any work (its vertices reached
+                // only along the edges of zero-area faces, say): then the
+                // next round, until no vertex is left.
+                if solver.vertices_left() {
+                    continue;
+                }
                 break;
             }
             let (n, parallel) = solver.start_phase(workers);
@@ -1151,6 +1157,14 @@ impl<'a> Solver<'a> {
             }
         }
         self.chosen = chosen;
+    }
+
+    /// Whether a vertex is left to pop (within the distance limit).
+    fn vertices_left(&mut self) -> bool {
+        let verts = &self.verts;
+        self.buckets
+            .peek(|v| verts[v as usize].dist.to_bits())
+            .is_some_and(|(d, _)| self.max_distance.is_none_or(|m| d <= m))
     }
 
     /// Asks for the records `select` reads of vertex `u`: its state and
