@@ -55,6 +55,7 @@ impl Mesh {
                 max: max_faces,
             });
         }
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for (vertex, p) in positions.iter().enumerate() {
             if !p.is_finite() {
                 return Err(MeshError::NonFiniteCoordinate {
@@ -64,6 +65,20 @@ impl Mesh {
                     z: p.z,
                 });
             }
+            let value = p.abs().max_element();
+            if value > crate::MAX_COORDINATE {
+                let value = [p.x, p.y, p.z]
+                    .into_iter()
+                    .find(|c| c.abs() == value)
+                    .unwrap_or(value);
+                return Err(MeshError::CoordinateTooLarge { vertex, value });
+            }
+            (lo, hi) = (lo.min(*p), hi.max(*p));
+        }
+        // The largest side, not the diagonal: squaring is what underflows.
+        let extent = (hi - lo).max_element();
+        if extent > 0.0 && extent < crate::MIN_EXTENT {
+            return Err(MeshError::TooSmall { extent });
         }
         for (face, t) in triangles.iter().enumerate() {
             for &index in t {

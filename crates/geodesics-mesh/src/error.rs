@@ -40,6 +40,27 @@ pub enum MeshError {
         /// Its coordinates.
         z: f64,
     },
+    /// A coordinate is so large that squared lengths would overflow or
+    /// lose their precision (beyond [`MAX_COORDINATE`](crate::MAX_COORDINATE)).
+    #[error(
+        "vertex {vertex} has a coordinate {value:e}, beyond ±1e100: squared lengths would overflow; scale the mesh down"
+    )]
+    CoordinateTooLarge {
+        /// The vertex.
+        vertex: usize,
+        /// The coordinate.
+        value: f64,
+    },
+    /// The whole mesh is so small that squared lengths would underflow
+    /// (the largest side of its bounding box is below
+    /// [`MIN_EXTENT`](crate::MIN_EXTENT) but not zero).
+    #[error(
+        "the mesh spans only {extent:e} (the largest side of its bounding box), below 1e-100: squared lengths would underflow; scale the mesh up"
+    )]
+    TooSmall {
+        /// The largest side of its bounding box.
+        extent: f64,
+    },
     /// A triangle uses the same vertex twice.
     #[error("face {face} repeats a vertex: [{}, {}, {}]", corners[0], corners[1], corners[2])]
     RepeatedVertex {

@@ -55,6 +55,18 @@ pub use build::BuildOptions;
 pub use error::MeshError;
 pub use summary::{AnisotropyStats, MeshSummary};
 
+/// The largest coordinate magnitude a mesh may have: beyond it, squared
+/// lengths (and those of the longest geodesics unfolded in a plane) could
+/// overflow or lose their precision. [`Mesh::build`] refuses larger ones
+/// ([`MeshError::CoordinateTooLarge`]).
+pub const MAX_COORDINATE: f64 = 1e100;
+
+/// The smallest a mesh's bounding box may be, on its largest side (unless all its
+/// vertices coincide): below it, squared edge lengths could underflow and
+/// every distance come out 0. [`Mesh::build`] refuses smaller meshes
+/// ([`MeshError::TooSmall`]).
+pub const MIN_EXTENT: f64 = 1e-100;
+
 use glam::{DVec2, DVec3};
 
 /// Positions and triangles exactly as a file stores them: the input of

@@ -295,6 +295,30 @@ fn defects_are_named() {
         MeshError::NonFiniteCoordinate { vertex: 2, .. }
     ));
     assert!(err.to_string().contains("vertex 2"));
+    // Coordinates whose squares overflow, a mesh whose squares underflow:
+    // refused (every distance came out ∞, or 0), but not a mesh at the
+    // edge of the range nor one whose vertices all coincide.
+    let mut huge = TET_P;
+    huge[3][2] = -1e300;
+    assert_eq!(
+        build(&huge, &TET_T).unwrap_err(),
+        MeshError::CoordinateTooLarge {
+            vertex: 3,
+            value: -1e300
+        }
+    );
+    let tiny = TET_P.map(|p| p.map(|c| c * 1e-300));
+    let err = build(&tiny, &TET_T).unwrap_err();
+    assert_eq!(err, MeshError::TooSmall { extent: 2e-300 });
+    assert!(err.to_string().contains("scale the mesh up"));
+    for scale in [
+        geodesics_mesh::MAX_COORDINATE,
+        geodesics_mesh::MIN_EXTENT,
+        0.0,
+    ] {
+        let scaled = TET_P.map(|p| p.map(|c| c * scale));
+        assert!(build(&scaled, &TET_T).is_ok(), "scale {scale}");
+    }
     // Three faces on edge 0-1.
     let p = [
         [0.0, 0.0, 0.0],
