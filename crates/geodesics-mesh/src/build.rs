@@ -65,12 +65,10 @@ impl Mesh {
                     z: p.z,
                 });
             }
-            let value = p.abs().max_element();
-            if value > crate::MAX_COORDINATE {
-                let value = [p.x, p.y, p.z]
-                    .into_iter()
-                    .find(|c| c.abs() == value)
-                    .unwrap_or(value);
+            if let Some(value) = [p.x, p.y, p.z]
+                .into_iter()
+                .find(|c| c.abs() > crate::MAX_COORDINATE)
+            {
                 return Err(MeshError::CoordinateTooLarge { vertex, value });
             }
             (lo, hi) = (lo.min(*p), hi.max(*p));

@@ -43,7 +43,8 @@ pub enum MeshError {
     /// A coordinate is so large that squared lengths would overflow or
     /// lose their precision (beyond [`MAX_COORDINATE`](crate::MAX_COORDINATE)).
     #[error(
-        "vertex {vertex} has a coordinate {value:e}, beyond ±1e100: squared lengths would overflow; scale the mesh down"
+        "vertex {vertex} has a coordinate {value:e}, beyond ±{max:e}: squared lengths would overflow; scale the mesh down",
+        max = crate::MAX_COORDINATE
     )]
     CoordinateTooLarge {
         /// The vertex.
@@ -55,7 +56,8 @@ pub enum MeshError {
     /// (the largest side of its bounding box is below
     /// [`MIN_EXTENT`](crate::MIN_EXTENT) but not zero).
     #[error(
-        "the mesh spans only {extent:e} (the largest side of its bounding box), below 1e-100: squared lengths would underflow; scale the mesh up"
+        "the mesh spans only {extent:e} (the largest side of its bounding box), below {min:e}: squared lengths would underflow; scale the mesh up",
+        min = crate::MIN_EXTENT
     )]
     TooSmall {
         /// The largest side of its bounding box.

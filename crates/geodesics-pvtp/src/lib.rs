@@ -255,8 +255,6 @@ mod tests {
         }
     }
 
-    /// Two squares touching at one corner (a pinch vertex): paths pass
-    /// through it, as in VTP; a second component stays unreachable.
     #[test]
     fn vertices_reached_only_along_zero_area_faces_are_reached() {
         // A strip of collinear points: every face has zero area, so no
@@ -280,6 +278,8 @@ mod tests {
         }
     }
 
+    /// Two squares touching at one corner (a pinch vertex): paths pass
+    /// through it, as in VTP; a second component stays unreachable.
     #[test]
     fn pinch_vertex_is_passed_and_other_components_stay_infinite() {
         let p = |x: f64, y: f64| DVec3::new(x, y, 0.0);

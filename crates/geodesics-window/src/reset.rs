@@ -252,14 +252,14 @@ mod tests {
         assert!(first.len() >= 4, "two interior edges at least: {first:?}");
         // Nothing joins at the next reset, but a list between 14 and 20
         // grew: it goes again. One next to 21, popped since, stays.
-        let grown: Vec<u32> = first
+        let next_to_21: Vec<u32> = first
             .iter()
             .copied()
             .filter(|&h| !halves_within(&mesh, &[14, 20]).contains(&h))
             .collect();
         let again = halves_within(&mesh, &[14, 20])[0];
         front.grown(again);
-        front.grown(grown[0]);
+        front.grown(next_to_21[0]);
         front.advance(2.5, |v| v == 21, |_| 1.0);
         assert_eq!(front.lists_to_empty(&mesh, |v| v == 21), [again]);
         // The record of grown lists was cleared.
