@@ -146,6 +146,13 @@ fn missing_file_and_usage_errors() {
     let out = geodesics(&["info", "/nonexistent/mesh.off"]);
     let stderr = assert_clean_failure(&out, 1, "missing file");
     assert!(stderr.contains("/nonexistent/mesh.off"), "{stderr}");
+    // The system's reason once, not repeated by the chain of causes.
+    let reason = stderr
+        .rsplit(": ")
+        .next()
+        .expect("the message has a reason")
+        .trim();
+    assert_eq!(stderr.matches(reason).count(), 1, "{stderr}");
     let out = geodesics(&["info", "--no-such-flag"]);
     assert_clean_failure(&out, 2, "unknown flag");
     let out = geodesics(&["no-such-command"]);
