@@ -198,7 +198,7 @@ struct FaceRec {
     state: [u32; 3],
     /// Per half-edge `3f + i`: its two lists.
     slots: [ListSlots; 3],
-    /// The worker whose queue takes the face's jobs (see [`face_owners`]).
+    /// The worker whose queue takes the face's jobs (see [`face_owner`]).
     owner: u32,
 }
 
@@ -744,7 +744,19 @@ impl<'a> Solver<'a> {
         let nf = mesh.face_count();
         let nv = mesh.vertex_count();
         let setup = SolverSetup::new(mesh, &tol);
-        let verts = setup.vertex_states();
+        // The per-face and per-vertex tables are filled on the solve's pool:
+        // on the welded dragon the face records alone are 56 MB, whose first
+        // touch (page faults) took 20-80 ms on one thread, all of it
+        // sequential time.
+        let verts = (0..nv)
+            .into_par_iter()
+            .map(|v| setup.vertex_state(v))
+            .collect();
+        let owners = vertex_owners(mesh, threads);
+        let faces = (0..nf as u32)
+            .into_par_iter()
+            .map(|f| FaceRec::new(face_owner(mesh, &owners, f)))
+            .collect();
         let SolverSetup {
             kind,
             group_of,
@@ -762,7 +774,7 @@ impl<'a> Solver<'a> {
             threads,
             tol,
             kind,
-            arrival: vec![Arrival::Unknown; nv],
+            arrival: (0..nv).into_par_iter().map(|_| Arrival::Unknown).collect(),
             verts,
             group_of,
             groups,
@@ -771,12 +783,7 @@ impl<'a> Solver<'a> {
             free: Vec::new(),
             reserve: Vec::new(),
             reserve_len: AtomicUsize::new(0),
-            faces: {
-                let owners = face_owners(mesh, threads);
-                (0..nf)
-                    .map(|f| FaceRec::new(owners.get(f).copied().unwrap_or(0)))
-                    .collect()
-            },
+            faces,
             pending: Vec::new(),
             current: Vec::new(),
             pending_emissions: Vec::new(),
@@ -1395,9 +1402,21 @@ impl<'a> Solver<'a> {
 
     pub(crate) fn finish(mut self, start: Instant) -> (DistanceField, Stats) {
         let verts = &self.verts;
-        let field = DistanceField::from_vertices(self.mesh, self.max_distance, |v| {
-            (verts[v].dist, verts[v].src)
-        });
+        let mesh = self.mesh;
+        let vertex = |v: usize| (verts[v].dist, verts[v].src);
+        // Gathered on the solve's pool: input order is a scattered walk
+        // over the renumbered vertices.
+        let (distance, nearest_source) = (0..mesh.input_vertex_count() as u32)
+            .into_par_iter()
+            .map(|u| vertex(mesh.mesh_vertex(u) as usize))
+            .unzip();
+        let field = DistanceField::from_first_fans(
+            mesh,
+            self.max_distance,
+            distance,
+            nearest_source,
+            vertex,
+        );
         let mut stats = std::mem::take(&mut self.stats);
         stats.total_seconds = start.elapsed().as_secs_f64();
         stats.propagation_seconds = self.parallel_seconds;
@@ -1412,19 +1431,20 @@ impl<'a> Solver<'a> {
 /// Faces per side of an ownership cell, in mean edge lengths.
 const OWNER_CELL_EDGES: f64 = 16.0;
 
-/// Which of `workers` workers takes each face's jobs: the faces in one
-/// cube of a grid over the mesh (about `OWNER_CELL_EDGES` mean edges
-/// wide) belong to one worker, the cubes spread over the workers by a hash.
-/// A list is written by the job of the face before it and read by the job
-/// of its own face, usually in the same cube, so its windows stay in one
-/// core's cache; two threads on interleaved faces spent 22 % more time
-/// per job than one. Positions, not face numbers, so any face order works.
+/// Which of `workers` workers takes the jobs of the faces around each
+/// vertex (see [`face_owner`]): the vertices in one cube of a grid over
+/// the mesh (about `OWNER_CELL_EDGES` mean edges wide) belong to one
+/// worker, the cubes spread over the workers by a hash. A list is written
+/// by the job of the face before it and read by the job of its own face,
+/// usually in the same cube, so its windows stay in one core's cache; two
+/// threads on interleaved faces spent 22 % more time per job than one.
+/// Positions, not face numbers, so any face order works. Empty for one
+/// worker.
 ///
-/// A face goes with the cube of its first corner: the cubes are found once
-/// per vertex, in one pass over the positions in memory order (with three
-/// scattered position loads per face, this pass was a third of the
-/// solver's setup on the welded dragon).
-fn face_owners(mesh: &Mesh, workers: usize) -> Vec<u32> {
+/// The cubes are found once per vertex, in one pass over the positions in
+/// memory order (with three scattered position loads per face, this pass
+/// was a third of the solver's setup on the welded dragon).
+fn vertex_owners(mesh: &Mesh, workers: usize) -> Vec<u32> {
     if workers <= 1 {
         return Vec::new();
     }
@@ -1435,8 +1455,7 @@ fn face_owners(mesh: &Mesh, workers: usize) -> Vec<u32> {
         1.0
     };
     // On the solve's pool (it only runs for several threads).
-    let of_vertex: Vec<u32> = mesh
-        .positions()
+    mesh.positions()
         .par_iter()
         .map(|&p| {
             let k = p * inv;
@@ -1450,11 +1469,18 @@ fn face_owners(mesh: &Mesh, workers: usize) -> Vec<u32> {
             // Into [0, workers) by the high half of a product, not `%`.
             ((u128::from(h) * workers as u128) >> 64) as u32
         })
-        .collect();
-    (0..mesh.face_count() as u32)
-        .into_par_iter()
-        .map(|f| of_vertex[mesh.tail(3 * f) as usize])
         .collect()
+}
+
+/// The worker that takes face `f`'s jobs: the owner of its first corner's
+/// cube (`owners` from [`vertex_owners`]; worker 0 when it is empty).
+#[inline]
+fn face_owner(mesh: &Mesh, owners: &[u32], f: u32) -> u32 {
+    if owners.is_empty() {
+        0
+    } else {
+        owners[mesh.tail(3 * f) as usize]
+    }
 }
 
 /// `⌊x⌋` as an integer (saturating; NaN gives 0) without `f64::floor`,

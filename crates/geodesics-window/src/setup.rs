@@ -70,20 +70,25 @@ impl VertexState {
 impl SolverSetup {
     /// Every vertex unreached, with its pseudo-source and pinch flags.
     pub fn vertex_states(&self) -> Vec<VertexState> {
-        self.pseudo
-            .iter()
-            .zip(&self.group_of)
-            .zip(&self.shadowed)
-            .map(|((&pseudo, &g), &shadowed)| VertexState {
-                dist: f64::INFINITY,
-                emitted: f64::INFINITY,
-                src: crate::NO_SOURCE,
-                inside: false,
-                pseudo,
-                grouped: g != NO_GROUP,
-                shadowed,
-            })
+        (0..self.pseudo.len())
+            .map(|v| self.vertex_state(v))
             .collect()
+    }
+
+    /// Vertex `v` unreached, with its pseudo-source and pinch flags (one
+    /// entry of [`SolverSetup::vertex_states`], for a solver that fills its
+    /// table in parallel).
+    #[inline]
+    pub fn vertex_state(&self, v: usize) -> VertexState {
+        VertexState {
+            dist: f64::INFINITY,
+            emitted: f64::INFINITY,
+            src: crate::NO_SOURCE,
+            inside: false,
+            pseudo: self.pseudo[v],
+            grouped: self.group_of[v] != NO_GROUP,
+            shadowed: self.shadowed[v],
+        }
     }
 
     /// The tables of `mesh` under the tolerance policy `tol` (which decides

@@ -54,8 +54,25 @@ impl DistanceField {
         vertex: impl Fn(usize) -> (f64, u32),
     ) -> DistanceField {
         let n = mesh.input_vertex_count() as u32;
-        let (mut distance, mut nearest_source): (Vec<f64>, Vec<u32>) =
+        let (distance, nearest_source): (Vec<f64>, Vec<u32>) =
             (0..n).map(|u| vertex(mesh.mesh_vertex(u) as usize)).unzip();
+        DistanceField::from_first_fans(mesh, max_distance, distance, nearest_source, vertex)
+    }
+
+    /// [`DistanceField::from_vertices`] with the values of each input
+    /// vertex's first fan already gathered in input order (`distance[u]`
+    /// and `nearest_source[u]` of `vertex(mesh.mesh_vertex(u))`), as a
+    /// solver that gathers them in parallel does; `vertex` is asked for
+    /// the further fans of pinch vertices only.
+    pub fn from_first_fans(
+        mesh: &Mesh,
+        max_distance: Option<f64>,
+        mut distance: Vec<f64>,
+        mut nearest_source: Vec<u32>,
+        vertex: impl Fn(usize) -> (f64, u32),
+    ) -> DistanceField {
+        debug_assert_eq!(distance.len(), mesh.input_vertex_count());
+        debug_assert_eq!(nearest_source.len(), mesh.input_vertex_count());
         // The further fans of pinch vertices: the input vertex takes the
         // nearest.
         for v in 0..mesh.vertex_count() as u32 {
