@@ -48,6 +48,7 @@ fn ich(
     let options = IchOptions {
         schedule,
         max_distance: limit,
+        ..IchOptions::default()
     };
     let (field, stats) = geodesics_ich::solve(mesh, sources, &options).unwrap();
     (field.distance, stats)

@@ -300,6 +300,7 @@ fn flat_grid_paths_are_straight_segments() {
             &MmpOptions {
                 schedule,
                 max_distance: None,
+                ..MmpOptions::default()
             },
         )
         .unwrap();
@@ -356,6 +357,7 @@ fn jittered_flat_grid_paths_are_euclidean_from_point_sources() {
             &MmpOptions {
                 schedule,
                 max_distance: None,
+                ..MmpOptions::default()
             },
         )
         .unwrap();
@@ -588,6 +590,7 @@ fn paths_cross_a_zero_area_face_straight() {
             &MmpOptions {
                 schedule,
                 max_distance: None,
+                ..MmpOptions::default()
             },
         )
         .unwrap();

@@ -340,7 +340,7 @@ fn point_sources_and_max_distance_match_vtp() {
             let options = PvtpOptions {
                 threads: 2,
                 max_distance: Some(m),
-                reset: None,
+                ..PvtpOptions::default()
             };
             let limited = geodesics_pvtp::solve(&mesh, sources, &options).unwrap().0;
             for (i, (&d, &r)) in limited.distance.iter().zip(&reference.distance).enumerate() {

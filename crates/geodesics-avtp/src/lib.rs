@@ -54,7 +54,7 @@
 //! ```
 
 pub use geodesics_vtp::WindowReset;
-pub use geodesics_window::{DistanceField, Source, Stats};
+pub use geodesics_window::{DistanceField, Progress, Source, Stats};
 
 use geodesics_mesh::Mesh;
 use geodesics_pvtp::{PvtpError, PvtpOptions};
@@ -73,7 +73,7 @@ pub enum AvtpError {
 }
 
 /// Settings of an AVTP solve.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct AvtpOptions {
     /// The reset step λ, in mean edge lengths: larger is slower and more
     /// accurate. The paper's usual values are 8 and 32.
@@ -87,6 +87,9 @@ pub struct AvtpOptions {
     /// `None`: sequential AVTP. `Some(T)`: PAVTP on a pool of `T` threads
     /// (`0`: every logical CPU).
     pub threads: Option<usize>,
+    /// Where the solve reports how far its wavefront has come (see
+    /// [`Progress`]); the default reports nowhere.
+    pub progress: Progress,
 }
 
 impl AvtpOptions {
@@ -97,6 +100,7 @@ impl AvtpOptions {
             lambda_g: WindowReset::DEFAULT_LAMBDA_G,
             max_distance: None,
             threads: None,
+            progress: Progress::default(),
         }
     }
 }
@@ -122,6 +126,7 @@ impl AvtpOptions {
         VtpOptions {
             max_distance: self.max_distance,
             reset: Some(self.reset()),
+            progress: self.progress.clone(),
             ..VtpOptions::default()
         }
     }
@@ -141,6 +146,7 @@ pub fn solve(
                 threads,
                 max_distance: options.max_distance,
                 reset: Some(options.reset()),
+                progress: options.progress.clone(),
             };
             Ok(geodesics_pvtp::solve(mesh, sources, &pvtp)?)
         }

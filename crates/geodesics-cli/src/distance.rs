@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use geodesics::{Algorithm, DistanceField, Mesh, Source, Stats};
+use geodesics::{Algorithm, DistanceField, Mesh, Progress, Source, Stats};
 use serde::Serialize;
 
 use crate::input::{LoadedMesh, MeshArgs};
@@ -121,9 +121,14 @@ pub fn run(args: &DistanceArgs) -> Result<()> {
     let loaded = args.input.load()?;
     let sources = parse_sources(args, &loaded.mesh)?;
 
+    let progress = Progress::tracked();
+    let algorithm = algorithm.with_progress(progress.clone());
+    let label = format!("{}, {}", loaded.name, algorithm.name());
     let start = Instant::now();
-    let (field, stats) = geodesics::compute(&loaded.mesh, &sources, &algorithm)
-        .with_context(|| loaded.name.clone())?;
+    let (field, stats) = crate::progress::while_solving(&label, &progress, || {
+        geodesics::compute(&loaded.mesh, &sources, &algorithm)
+    })
+    .with_context(|| loaded.name.clone())?;
     let solve_seconds = start.elapsed().as_secs_f64();
 
     if let Some(out) = &args.output {

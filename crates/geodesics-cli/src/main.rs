@@ -18,6 +18,7 @@ mod distance;
 mod info;
 mod input;
 mod path;
+mod progress;
 
 use std::process::ExitCode;
 

@@ -74,7 +74,7 @@ mod rules;
 mod solver;
 
 pub use error::IchError;
-pub use geodesics_window::{DistanceField, Source, Stats};
+pub use geodesics_window::{DistanceField, Progress, Source, Stats};
 
 use geodesics_mesh::Mesh;
 
@@ -99,6 +99,9 @@ pub struct IchOptions {
     /// Stop the wavefront beyond this distance; vertices farther away are
     /// reported unreachable (`f64::INFINITY`).
     pub max_distance: Option<f64>,
+    /// Where the solve reports how far its wavefront has come (see
+    /// [`Progress`]); the default reports nowhere.
+    pub progress: Progress,
 }
 
 impl IchOptions {

@@ -41,9 +41,15 @@ struct Pending {
     third: bool,
 }
 
+/// Vertices reached between two reports to the options' progress.
+const PROGRESS_EVERY: u64 = 1024;
+
 struct Solver<'a> {
     mesh: &'a Mesh,
     options: &'a IchOptions,
+    /// Vertices that have a distance, reported to the options' progress
+    /// now and then.
+    reached: u64,
     tol: Tolerance,
     kind: Vec<FaceKind>,
     /// Per half-edge: Chen and Han's angle record (one angle one split).
@@ -69,11 +75,13 @@ pub(crate) fn solve(
 ) -> Result<(DistanceField, Stats), IchError> {
     let start = Instant::now();
     validate(mesh, sources, options)?;
+    options.progress.start(mesh.vertex_count());
     let mut s = Solver::new(mesh, options);
     for (i, source) in sources.iter().enumerate() {
         s.seed(i as u32, source);
     }
     s.run();
+    options.progress.set_reached(s.reached);
     let mut stats = std::mem::take(&mut s.stats);
     let field = s.finish();
     stats.total_seconds = start.elapsed().as_secs_f64();
@@ -116,6 +124,7 @@ impl<'a> Solver<'a> {
         };
         Solver {
             mesh,
+            reached: 0,
             options,
             tol,
             kind,
@@ -182,6 +191,12 @@ impl<'a> Solver<'a> {
     #[inline]
     fn set_dist(&mut self, v: u32, d: f64, s: u32) {
         let vi = v as usize;
+        if self.dist[vi] == f64::INFINITY {
+            self.reached += 1;
+            if self.reached.is_multiple_of(PROGRESS_EVERY) {
+                self.options.progress.set_reached(self.reached);
+            }
+        }
         self.dist[vi] = d;
         self.src[vi] = s;
         // A pseudo-source (re-)emits when it is first reached and whenever

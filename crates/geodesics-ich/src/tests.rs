@@ -162,6 +162,7 @@ fn max_distance_stops_the_wavefront() {
         let limited = IchOptions {
             schedule: s,
             max_distance: Some(7.5),
+            ..IchOptions::default()
         };
         let (field, stats) = solve(&mesh, &[Source::Vertex(0)], &limited).unwrap();
         assert!(stats.window_propagations < full.1.window_propagations);

@@ -78,7 +78,7 @@ mod solver;
 mod trim;
 
 pub use error::MmpError;
-pub use geodesics_window::{DistanceField, GeodesicPath, Source, Stats, SurfacePoint};
+pub use geodesics_window::{DistanceField, GeodesicPath, Progress, Source, Stats, SurfacePoint};
 pub use path::MmpField;
 
 use geodesics_mesh::Mesh;
@@ -102,6 +102,9 @@ pub struct MmpOptions {
     /// Stop the wavefront beyond this distance; vertices farther away are
     /// reported unreachable (`f64::INFINITY`).
     pub max_distance: Option<f64>,
+    /// Where the solve reports how far its wavefront has come (see
+    /// [`Progress`]); the default reports nowhere.
+    pub progress: Progress,
 }
 
 /// Computes exact geodesic distances from `sources` to every vertex of

@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::{
-    DistanceField, FaceKind, NO_SOURCE, SolverSetup, Source, Stats, Tolerance, Triangle, Window,
-    seeds, validate_sources,
+    DistanceField, FaceKind, NO_SOURCE, Progress, SolverSetup, Source, Stats, Tolerance, Triangle,
+    Window, seeds, validate_sources,
 };
 use glam::{DVec2, DVec3};
 
@@ -193,9 +193,15 @@ pub(crate) struct Solved {
     pub stats: Stats,
 }
 
+/// Vertices reached between two reports to [`Progress`].
+const PROGRESS_EVERY: u64 = 1024;
+
 struct Solver<'a> {
     mesh: &'a Mesh,
     max_distance: Option<f64>,
+    /// Vertices that have a distance, reported to `progress` now and then.
+    reached: u64,
+    progress: Progress,
     tol: Tolerance,
     kind: Vec<FaceKind>,
     pseudo: Vec<bool>,
@@ -255,12 +261,14 @@ pub(crate) fn solve(
 ) -> Result<(DistanceField, Solved), MmpError> {
     let start = Instant::now();
     validate(mesh, sources, options)?;
+    options.progress.start(mesh.vertex_count());
     let mut s = Solver::new(mesh, options);
     for (i, source) in sources.iter().enumerate() {
         s.source_points.push(source_point(mesh, source));
         s.seed(i as u32, source);
     }
     s.run();
+    s.progress.set_reached(s.reached);
     let field = s.finish_field();
     let mut solved = s.into_solved();
     solved.stats.total_seconds = start.elapsed().as_secs_f64();
@@ -307,6 +315,8 @@ impl<'a> Solver<'a> {
         };
         Solver {
             mesh,
+            reached: 0,
+            progress: options.progress.clone(),
             max_distance: options.max_distance,
             tol,
             kind,
@@ -379,6 +389,12 @@ impl<'a> Solver<'a> {
     #[inline]
     fn set_dist(&mut self, v: u32, d: f64, s: u32, how: Prov) {
         let vi = v as usize;
+        if self.dist[vi] == f64::INFINITY {
+            self.reached += 1;
+            if self.reached.is_multiple_of(PROGRESS_EVERY) {
+                self.progress.set_reached(self.reached);
+            }
+        }
         self.dist[vi] = d;
         self.src[vi] = s;
         self.prov[vi] = how;

@@ -70,7 +70,7 @@ mod error;
 mod solver;
 
 pub use error::PvtpError;
-pub use geodesics_window::{DistanceField, Source, Stats, WindowReset};
+pub use geodesics_window::{DistanceField, Progress, Source, Stats, WindowReset};
 
 use std::time::Instant;
 
@@ -91,6 +91,9 @@ pub struct PvtpOptions {
     /// PAVTP (approximate): AVTP's window reset on top of PVTP, between
     /// rounds. `None` (the default) is exact PVTP.
     pub reset: Option<WindowReset>,
+    /// Where the solve reports how far its wavefront has come (see
+    /// [`Progress`]); the default reports nowhere.
+    pub progress: Progress,
 }
 
 /// The most threads a solve accepts: 256, or the machine's logical CPU
@@ -133,6 +136,7 @@ pub fn solve(
     let threads = pool.current_num_threads();
     // `threads: 0` takes rayon's default, which `RAYON_NUM_THREADS` sets.
     solver::check_thread_count(threads)?;
+    options.progress.start(mesh.vertex_count());
     Ok(pool.install(|| {
         let mut s = solver::Solver::new(mesh, options, threads);
         for (i, source) in sources.iter().enumerate() {
@@ -318,7 +322,7 @@ mod tests {
         let options = PvtpOptions {
             threads: 2,
             max_distance: Some(1.0),
-            reset: None,
+            ..PvtpOptions::default()
         };
         let (field, _) = solve(&mesh, &[Source::Vertex(0)], &options).unwrap();
         for (v, d) in field.distance.iter().enumerate() {

@@ -44,9 +44,9 @@ use geodesics_window::prune::{
     MergeBuffers, beaten_from_edge_ends, merge_sorted, one_angle_two_sides, vertex_check_ended,
 };
 use geodesics_window::{
-    Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, ResetFront, Shadow, SolverSetup,
-    Source, Stats, Tolerance, Triangle, VertexState, corner_neighbours, pseudo_source_window,
-    seeds, validate_sources,
+    Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Progress, ResetFront, Shadow,
+    SolverSetup, Source, Stats, Tolerance, Triangle, VertexState, corner_neighbours,
+    pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 use rayon::prelude::*;
@@ -736,6 +736,10 @@ pub(crate) struct Solver<'a> {
     parallel_seconds: f64,
     /// PAVTP: which vertices the resets restart, which lists they empty.
     reset: Option<ResetFront>,
+    /// Vertices the wavefront has passed (popped once), reported to
+    /// `progress` each round.
+    settled: u64,
+    progress: Progress,
 }
 
 impl<'a> Solver<'a> {
@@ -805,6 +809,8 @@ impl<'a> Solver<'a> {
             reset: options
                 .reset
                 .map(|r| ResetFront::new(r, mesh.average_edge_length(), nv)),
+            settled: 0,
+            progress: options.progress.clone(),
         }
     }
 
@@ -1131,12 +1137,14 @@ impl<'a> Solver<'a> {
             self.stats.vertex_pops += 1;
             if first {
                 self.verts[vi].inside = true;
+                self.settled += 1;
             }
             let fan = self.mesh.fan(v);
             geodesics_mesh::prefetch(fan, 0);
             lists += fan.len() * (usize::from(first) + usize::from(emit));
             chosen.push((v, first, emit));
         }
+        self.progress.set_reached(self.settled);
         let mesh = self.mesh;
         for &(u, _, _) in chosen.iter().take(PREFETCH_AHEAD) {
             self.prefetch_fan_records(u);

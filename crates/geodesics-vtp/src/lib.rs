@@ -103,7 +103,7 @@ mod queue;
 mod solver;
 
 pub use error::VtpError;
-pub use geodesics_window::{DistanceField, Source, Stats, WindowReset};
+pub use geodesics_window::{DistanceField, Progress, Source, Stats, WindowReset};
 pub use geodesics_window::{GeodesicPath, SurfacePoint};
 pub use path::{PathError, shortest_path, trace_path};
 
@@ -231,6 +231,9 @@ pub struct VtpOptions {
     /// passes a multiple of `lambda` mean edge lengths. `None` (the
     /// default) is exact VTP.
     pub reset: Option<WindowReset>,
+    /// Where the solve reports how far its wavefront has come (see
+    /// [`Progress`]); the default reports nowhere.
+    pub progress: Progress,
 }
 
 /// The paper's named variants (Table 3 and Fig 12 of Qin et al. 2016) as

@@ -48,6 +48,9 @@ fn slot_index(h: u32) -> usize {
 /// scaled up accordingly (an estimate, unbiased over many lists).
 const PHASE_SAMPLE: u64 = 32;
 
+/// Vertices passed between two reports to [`crate::Progress`].
+const PROGRESS_EVERY: u64 = 1024;
+
 struct Solver<'a> {
     mesh: &'a Mesh,
     options: &'a VtpOptions,
@@ -67,6 +70,9 @@ struct Solver<'a> {
     free: Vec<u32>,
     fifo: VecDeque<u32>,
     pops: u32,
+    /// Vertices the wavefront has passed (popped once), for the progress
+    /// report.
+    settled: u64,
     live: u64,
     stats: Stats,
     left: Vec<EndedWindow>,
@@ -103,11 +109,13 @@ pub(crate) fn solve(
 ) -> Result<(DistanceField, Stats, Vec<Provenance>), VtpError> {
     let start = Instant::now();
     validate(mesh, sources, options)?;
+    options.progress.start(mesh.vertex_count());
     let mut s = Solver::new(mesh, options);
     for (i, source) in sources.iter().enumerate() {
         s.seed(i as u32, source);
     }
     s.run();
+    options.progress.set_reached(s.settled);
     let mut stats = std::mem::take(&mut s.stats);
     let prov = std::mem::take(&mut s.prov);
     let field = s.finish();
@@ -160,6 +168,7 @@ impl<'a> Solver<'a> {
             free: Vec::new(),
             fifo: VecDeque::new(),
             pops: 0,
+            settled: 0,
             live: 0,
             stats: Stats::default(),
             left: Vec::new(),
@@ -318,6 +327,10 @@ impl<'a> Solver<'a> {
             self.stats.vertex_pops += 1;
             if first {
                 self.verts[vi].inside = true;
+                self.settled += 1;
+                if self.settled.is_multiple_of(PROGRESS_EVERY) {
+                    self.options.progress.set_reached(self.settled);
+                }
             }
             if first && !face_sorted {
                 // The next vertex's faces load while this one's lists

@@ -54,6 +54,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod path;
+mod progress;
 pub mod prune;
 mod reset;
 mod setup;
@@ -64,6 +65,7 @@ mod types;
 mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
+pub use progress::Progress;
 pub use reset::ResetFront;
 pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState};
 pub use shadow::{ALL_RAYS, Arrival, Shadow, corner_neighbours, pseudo_source_window};

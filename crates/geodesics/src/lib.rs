@@ -37,7 +37,9 @@ pub use geodesics_mmp::{MmpError, MmpOptions};
 pub use geodesics_pvtp::{PvtpError, PvtpOptions};
 pub use geodesics_vtp::PathError;
 pub use geodesics_vtp::{Merge, PairRule, Pruning, Rule1, Schedule, VtpError, VtpOptions};
-pub use geodesics_window::{DistanceField, GeodesicPath, NO_SOURCE, Source, Stats, SurfacePoint};
+pub use geodesics_window::{
+    DistanceField, GeodesicPath, NO_SOURCE, Progress, Source, Stats, SurfacePoint,
+};
 
 /// Errors of the facade: one per solver crate, plus bad algorithm names.
 #[derive(Debug, thiserror::Error)]
@@ -198,6 +200,30 @@ impl Algorithm {
         }
         self
     }
+
+    /// Reports the solve's progress to `progress` (see [`Progress`]).
+    ///
+    /// ```
+    /// use geodesics::{Algorithm, BuildOptions, Mesh, Progress, Source, compute};
+    ///
+    /// let mesh = Mesh::build(geodesics_shapes::flat_grid(5, 5, 1.0), &BuildOptions::default())?;
+    /// let progress = Progress::tracked();
+    /// // A real caller reads `progress` from another thread while the solve runs.
+    /// let algorithm = Algorithm::default().with_progress(progress.clone());
+    /// compute(&mesh, &[Source::Vertex(0)], &algorithm)?;
+    /// assert_eq!((progress.reached(), progress.total()), (36, 36)); // 6 × 6 vertices
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_progress(mut self, progress: Progress) -> Self {
+        match &mut self {
+            Algorithm::Vtp(o) => o.progress = progress,
+            Algorithm::Avtp(o) => o.progress = progress,
+            Algorithm::Mmp(o) => o.progress = progress,
+            Algorithm::Pvtp(o) => o.progress = progress,
+            Algorithm::Ich(o) => o.progress = progress,
+        }
+        self
+    }
 }
 
 impl Default for Algorithm {
@@ -235,7 +261,7 @@ impl FromStr for Algorithm {
                 } else {
                     geodesics_mmp::Schedule::Fwp
                 },
-                max_distance: None,
+                ..MmpOptions::default()
             })),
             _ => Err(Error::UnknownAlgorithm {
                 name: name.to_string(),
