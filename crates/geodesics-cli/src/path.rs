@@ -52,7 +52,12 @@ pub fn run(args: &PathArgs) -> Result<()> {
     if sources.is_empty() {
         sources.push(Source::Vertex(0));
     }
-    let path = geodesics::shortest_path(&loaded.mesh, &sources, args.target, &algorithm)?;
+    let progress = geodesics::Progress::tracked();
+    let algorithm = algorithm.with_progress(progress.clone());
+    let label = format!("{}, {}", loaded.name, algorithm.name());
+    let path = crate::progress::while_solving(&label, &progress, || {
+        geodesics::shortest_path(&loaded.mesh, &sources, args.target, &algorithm)
+    })?;
     if let (Some(out), Some(format)) = (&args.output, format) {
         let bytes = format.render(&loaded.mesh, &path, args.target);
         geodesics::io::write_bytes_atomic(out, &bytes, &protected)?;
