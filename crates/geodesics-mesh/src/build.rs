@@ -3,10 +3,11 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use crate::summary::{AnisotropyStats, MeshSummary};
 use crate::union_find::UnionFind;
-use crate::{FaceKind, HalfEdge, IndexedTriangles, Mesh, MeshError, NONE};
+use crate::{FaceKind, HalfEdge, IndexedTriangles, Mesh, MeshError, NONE, frame_coords_of};
 
 /// How to build a [`Mesh`].
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -189,22 +190,30 @@ impl Mesh {
 
     fn compute_geometry(&mut self) {
         let n = self.half.len();
-        self.corner_angle = Vec::with_capacity(n);
-        for f in 0..n / 3 {
-            let p = self.face(f as u32).map(|v| self.positions[v as usize]);
-            for i in 0..3 {
-                self.half[3 * f + i].length = p[i].distance(p[(i + 1) % 3]);
-            }
-            for i in 0..3 {
-                let a = p[(i + 1) % 3] - p[i];
-                let b = p[(i + 2) % 3] - p[i];
-                self.corner_angle.push(angle_between(a, b));
-            }
-        }
-        for h in 0..n as u32 {
-            self.half[h as usize].apex =
-                self.frame_coords(h, self.position(self.opposite_vertex(h)));
-        }
+        // Each face on its own (edge lengths, corner angles, the apex in
+        // each edge's frame), on rayon's pool: on the welded dragon this was
+        // a third of the build, the atan2 of every corner.
+        self.corner_angle = vec![0.0; n];
+        let positions = &self.positions;
+        self.half
+            .par_chunks_mut(3)
+            .zip(self.corner_angle.par_chunks_mut(3))
+            .with_min_len(1024)
+            .for_each(|(half, angle)| {
+                let p = [0, 1, 2].map(|i| positions[half[i].tail as usize]);
+                for i in 0..3 {
+                    half[i].length = p[i].distance(p[(i + 1) % 3]);
+                }
+                for i in 0..3 {
+                    let a = p[(i + 1) % 3] - p[i];
+                    let b = p[(i + 2) % 3] - p[i];
+                    angle[i] = angle_between(a, b);
+                }
+                for i in 0..3 {
+                    let (tail, head, apex) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
+                    half[i].apex = frame_coords_of(tail, head, half[i].length, apex);
+                }
+            });
         // Summed in the input's corner order: the same bits whatever the
         // numbering (saddle and flat tests sit close to 2π).
         self.angle_sum = vec![0.0; self.positions.len()];
@@ -356,23 +365,24 @@ impl Mesh {
             .filter(|&v| self.is_referenced(v) && self.is_saddle(v))
             .count();
 
-        let mut zero_area_faces = 0;
-        let mut quality = Vec::with_capacity(self.face_count());
-        // In input order: the mean is then the same to the last bit whatever
-        // the numbering.
-        for u in 0..self.face_count() as u32 {
-            let f = self.mesh_face(u) as usize;
-            let p = self.face(f as u32).map(|v| self.positions[v as usize]);
-            let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
-            if area == 0.0 {
-                zero_area_faces += 1;
-                continue;
-            }
-            let l = [0, 1, 2].map(|i| self.half[3 * f + i].length);
-            let half_perimeter = 0.5 * (l[0] + l[1] + l[2]);
-            let longest = l[0].max(l[1]).max(l[2]);
-            quality.push(half_perimeter * longest / (2.0 * 3f64.sqrt() * area));
-        }
+        // Per face (on rayon's pool), kept in input order: the mean is then
+        // the same to the last bit whatever the numbering. `None`: no area.
+        let per_face: Vec<Option<f64>> = (0..self.face_count() as u32)
+            .into_par_iter()
+            .map(|u| {
+                let f = self.mesh_face(u) as usize;
+                let p = self.face(f as u32).map(|v| self.positions[v as usize]);
+                let area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+                (area != 0.0).then(|| {
+                    let l = [0, 1, 2].map(|i| self.half[3 * f + i].length);
+                    let half_perimeter = 0.5 * (l[0] + l[1] + l[2]);
+                    let longest = l[0].max(l[1]).max(l[2]);
+                    half_perimeter * longest / (2.0 * 3f64.sqrt() * area)
+                })
+            })
+            .collect();
+        let zero_area_faces = per_face.iter().filter(|q| q.is_none()).count();
+        let mut quality: Vec<f64> = per_face.into_iter().flatten().collect();
         let anisotropy = anisotropy_stats(&mut quality);
 
         let (lo, hi) = (0..nin as u32)
@@ -440,8 +450,8 @@ fn position_key(p: DVec3) -> [u64; 3] {
 }
 
 fn distinct_position_count(positions: &[DVec3]) -> usize {
-    let mut keys: Vec<[u64; 3]> = positions.iter().map(|&p| position_key(p)).collect();
-    keys.sort_unstable();
+    let mut keys: Vec<[u64; 3]> = positions.par_iter().map(|&p| position_key(p)).collect();
+    keys.par_sort_unstable();
     keys.dedup();
     keys.len()
 }
@@ -814,8 +824,9 @@ fn locality_order(positions: &[DVec3], faces: &[[u32; 3]]) -> (Vec<u32>, Vec<u32
     const CELLS: f64 = ((1u64 << 21) - 1) as f64;
     let scale = if extent > 0.0 { CELLS / extent } else { 0.0 };
     let cell = |x: f64| ((x * scale).clamp(0.0, CELLS)) as u64;
+    // (code, vertex) pairs are distinct: any sort gives this one order.
     let mut keyed: Vec<(u64, u32)> = positions
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(v, &p)| {
             let q = p - lo;
@@ -824,7 +835,7 @@ fn locality_order(positions: &[DVec3], faces: &[[u32; 3]]) -> (Vec<u32>, Vec<u32
             (code, v as u32)
         })
         .collect();
-    keyed.sort_unstable();
+    keyed.par_sort_unstable();
     let vertex_order: Vec<u32> = keyed.iter().map(|&(_, v)| v).collect();
     let mut new_vertex = vec![0u32; vertex_order.len()];
     for (i, &v) in vertex_order.iter().enumerate() {

@@ -328,14 +328,12 @@ impl Mesh {
     /// face of `h` (so `y ≥ 0`): the frame every window solver puts windows
     /// in. A zero-length half-edge maps everything to the origin.
     pub fn frame_coords(&self, h: u32, q: DVec3) -> DVec2 {
-        let t = self.position(self.tail(h));
-        let e = self.position(self.head(h)) - t;
-        let l = self.length(h);
-        if l <= 0.0 {
-            return DVec2::ZERO;
-        }
-        let r = q - t;
-        DVec2::new(r.dot(e) / l, e.cross(r).length() / l)
+        frame_coords_of(
+            self.position(self.tail(h)),
+            self.position(self.head(h)),
+            self.length(h),
+            q,
+        )
     }
 
     /// Interior angle of the face of `h` at the tail of `h` (corner `h`).
@@ -586,6 +584,18 @@ impl Iterator for OutgoingHalfEdges<'_> {
         self.current = if t == self.start { NONE } else { t };
         Some(h)
     }
+}
+
+/// [`Mesh::frame_coords`] for the half-edge from `tail` to `head` of length
+/// `length`.
+#[inline]
+pub(crate) fn frame_coords_of(tail: DVec3, head: DVec3, length: f64, q: DVec3) -> DVec2 {
+    if length <= 0.0 {
+        return DVec2::ZERO;
+    }
+    let e = head - tail;
+    let r = q - tail;
+    DVec2::new(r.dot(e) / length, e.cross(r).length() / length)
 }
 
 /// Asks the processor to start loading `items[i]` into cache (nothing if
