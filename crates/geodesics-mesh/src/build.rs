@@ -1,7 +1,5 @@
 //! Validation and construction of [`Mesh`] from [`IndexedTriangles`].
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -457,16 +455,40 @@ fn distinct_position_count(positions: &[DVec3]) -> usize {
 }
 
 /// Merges exactly equal positions; new indices in order of first appearance.
+///
+/// By sorting `(position, index)` pairs (in parallel; the pairs are
+/// distinct, so the order is the same every time): each run of equal
+/// positions starts at its first appearance. A hash map of positions did
+/// the same in one pass, at a random memory access per vertex.
 fn weld_positions(positions: &[DVec3]) -> (Vec<DVec3>, Vec<u32>) {
-    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
+    let n = positions.len();
+    let mut keyed: Vec<([u64; 3], u32)> = positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, &p)| (position_key(p), i as u32))
+        .collect();
+    keyed.par_sort_unstable();
+    let mut first = vec![0u32; n];
+    let mut run_start = 0;
+    for (k, &(key, i)) in keyed.iter().enumerate() {
+        if k == 0 || key != keyed[k - 1].0 {
+            run_start = i;
+        }
+        first[i as usize] = run_start;
+    }
+    // A vertex's first appearance comes no later than the vertex itself,
+    // so numbering in index order numbers in order of first appearance.
+    let mut new_of = vec![NONE; n];
     let mut welded = Vec::new();
-    let remap = positions
+    let remap = first
         .iter()
-        .map(|&p| {
-            *first.entry(position_key(p)).or_insert_with(|| {
-                welded.push(p);
-                (welded.len() - 1) as u32
-            })
+        .map(|&r| {
+            let r = r as usize;
+            if new_of[r] == NONE {
+                new_of[r] = welded.len() as u32;
+                welded.push(positions[r]);
+            }
+            new_of[r]
         })
         .collect();
     (welded, remap)
@@ -876,7 +898,31 @@ fn spread_bits(x: u64) -> u64 {
 
 #[cfg(test)]
 mod tests {
-    use super::spread_bits;
+    use super::{spread_bits, weld_positions};
+    use glam::DVec3;
+
+    #[test]
+    fn welding_numbers_positions_by_first_appearance() {
+        let p = |x: f64, y: f64| DVec3::new(x, y, 0.0);
+        let positions = [
+            p(2.0, 0.0),
+            p(1.0, 0.0),
+            p(2.0, 0.0),
+            p(-0.0, 0.0),
+            p(1.0, 0.0),
+            p(0.0, 0.0),
+            p(3.0, 0.0),
+        ];
+        let (welded, remap) = weld_positions(&positions);
+        assert_eq!(remap, [0, 1, 0, 2, 1, 2, 3]);
+        // The first appearance's coordinates, -0.0 included.
+        assert_eq!(
+            welded,
+            [p(2.0, 0.0), p(1.0, 0.0), p(-0.0, 0.0), p(3.0, 0.0)]
+        );
+        assert!(welded[2].x.is_sign_negative());
+        assert_eq!(weld_positions(&[]), (vec![], vec![]));
+    }
 
     #[test]
     fn spread_bits_moves_bit_i_to_bit_3i() {
