@@ -5,7 +5,9 @@
 //! papers use), give a validated [`Mesh`] and one or more [`Source`]s, get a
 //! [`DistanceField`] (one distance per input vertex, `f64::INFINITY` where
 //! unreachable) and the [`Stats`] of the run. Every solver returns the same
-//! types, so callers can swap them freely.
+//! types, so callers can swap them freely. A long solve can be watched from
+//! another thread through a [`Progress`] handle
+//! ([`Algorithm::with_progress`]).
 //!
 //! # Example
 //!
