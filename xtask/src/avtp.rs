@@ -51,6 +51,7 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
         "| mesh | F | λ | best s | speed-up over VTP | propagations | mean rel. error | max rel. error | PAVTP T=2 best s | PAVTP speed-up over AVTP | PAVTP mean rel. error |"
     );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let mut falls = Vec::new();
     for (name, soup) in cases {
         let mesh = build_renumbered(soup, false)?;
         // [VTP, AVTP λ0, PAVTP λ0, AVTP λ1, PAVTP λ1, ...]
@@ -70,10 +71,12 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
             timed.best(0),
             vtp_stats.window_propagations
         );
+        let mut means = Vec::new();
         for (k, lambda) in LAMBDAS.into_iter().enumerate() {
             let (a, p) = (1 + 2 * k, 2 + 2 * k);
             let (field, stats) = &timed.fastest[a];
             let (mean, max) = relative_errors(&field.distance, &exact.distance);
+            means.push(mean);
             let (pmean, _) = relative_errors(&timed.fastest[p].0.distance, &exact.distance);
             println!(
                 "| {name} | {} | {lambda} | {:.3} | {} | {} | {mean:.2e} | {max:.2e} | {:.3} | {} | {pmean:.2e} |",
@@ -85,6 +88,24 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
                 timed.speed_up(a, p)
             );
         }
+        falls.push((name, means));
+    }
+    // Du et al.'s claim, and issue 5's goal: the mean error at least halves
+    // each time λ doubles.
+    println!(
+        "\nAVTP mean error at each λ divided by the one at λ/2 (at most 0.5 when it halves):\n"
+    );
+    for (name, means) in falls {
+        let ratios: Vec<String> = means
+            .windows(2)
+            .zip(LAMBDAS.into_iter().skip(1))
+            .map(|(m, lambda)| {
+                let r = m[1] / m[0];
+                let flag = if r <= 0.5 { "" } else { " (not halved)" };
+                format!("{lambda}: {r:.3}{flag}")
+            })
+            .collect();
+        println!("- {name}: {}", ratios.join(", "));
     }
     Ok(())
 }
