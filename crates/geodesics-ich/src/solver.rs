@@ -41,9 +41,6 @@ struct Pending {
     third: bool,
 }
 
-/// Vertices reached between two reports to the options' progress.
-const PROGRESS_EVERY: u64 = 1024;
-
 struct Solver<'a> {
     mesh: &'a Mesh,
     options: &'a IchOptions,
@@ -193,9 +190,7 @@ impl<'a> Solver<'a> {
         let vi = v as usize;
         if self.dist[vi] == f64::INFINITY {
             self.reached += 1;
-            if self.reached.is_multiple_of(PROGRESS_EVERY) {
-                self.options.progress.set_reached(self.reached);
-            }
+            self.options.progress.note_reached(self.reached);
         }
         self.dist[vi] = d;
         self.src[vi] = s;

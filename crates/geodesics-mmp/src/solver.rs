@@ -193,9 +193,6 @@ pub(crate) struct Solved {
     pub stats: Stats,
 }
 
-/// Vertices reached between two reports to [`Progress`].
-const PROGRESS_EVERY: u64 = 1024;
-
 struct Solver<'a> {
     mesh: &'a Mesh,
     max_distance: Option<f64>,
@@ -391,9 +388,7 @@ impl<'a> Solver<'a> {
         let vi = v as usize;
         if self.dist[vi] == f64::INFINITY {
             self.reached += 1;
-            if self.reached.is_multiple_of(PROGRESS_EVERY) {
-                self.progress.set_reached(self.reached);
-            }
+            self.progress.note_reached(self.reached);
         }
         self.dist[vi] = d;
         self.src[vi] = s;

@@ -48,9 +48,6 @@ fn slot_index(h: u32) -> usize {
 /// scaled up accordingly (an estimate, unbiased over many lists).
 const PHASE_SAMPLE: u64 = 32;
 
-/// Vertices passed between two reports to [`crate::Progress`].
-const PROGRESS_EVERY: u64 = 1024;
-
 struct Solver<'a> {
     mesh: &'a Mesh,
     options: &'a VtpOptions,
@@ -328,9 +325,7 @@ impl<'a> Solver<'a> {
             if first {
                 self.verts[vi].inside = true;
                 self.settled += 1;
-                if self.settled.is_multiple_of(PROGRESS_EVERY) {
-                    self.options.progress.set_reached(self.settled);
-                }
+                self.options.progress.note_reached(self.settled);
             }
             if first && !face_sorted {
                 // The next vertex's faces load while this one's lists

@@ -81,6 +81,20 @@ impl Progress {
         }
     }
 
+    /// How many vertices a solver lets pass between two stores of its
+    /// count ([`Progress::note_reached`]).
+    pub const REPORT_EVERY: u64 = 1024;
+
+    /// For solvers, each time one more vertex is reached: `reached` is the
+    /// running count, stored every [`Progress::REPORT_EVERY`] vertices
+    /// (call [`Progress::set_reached`] with the final count at the end).
+    #[inline]
+    pub fn note_reached(&self, reached: u64) {
+        if reached.is_multiple_of(Progress::REPORT_EVERY) {
+            self.set_reached(reached);
+        }
+    }
+
     /// For solvers: `reached` vertices are reached by now (a count that
     /// only grows within a solve).
     #[inline]
@@ -121,6 +135,11 @@ mod tests {
         assert_eq!(p.fraction(), Some(1.0));
         q.start(5);
         assert_eq!((p.reached(), p.total()), (0, 5));
+        // Running counts are stored in steps.
+        q.note_reached(Progress::REPORT_EVERY - 1);
+        assert_eq!(p.reached(), 0);
+        q.note_reached(Progress::REPORT_EVERY);
+        assert_eq!(p.reached(), Progress::REPORT_EVERY);
         // Untracked: every call is a no-op.
         let none = Progress::default();
         none.start(3);
