@@ -353,8 +353,12 @@ impl<'a> Solver<'a> {
                     if rec[ENTERED] == NONE {
                         rec[ENTERED] = self.pops;
                     }
-                    for e in 3 * f..3 * f + 3 {
-                        self.enqueue(e);
+                    // `enqueue` on the record in hand (no index arithmetic).
+                    for (i, word) in rec[..ENTERED].iter_mut().enumerate() {
+                        if *word & QUEUED == 0 && *word != NO_LIST {
+                            *word |= QUEUED;
+                            self.fifo.push_back(3 * f + i as u32);
+                        }
                     }
                 }
             }
@@ -517,6 +521,7 @@ impl<'a> Solver<'a> {
     /// `ends` are the two vertices of `h`'s edge (in either order): the
     /// callers know them, and reading them from `h`'s record would cost a
     /// cache miss per append (the face beyond is usually not in cache).
+    #[inline(always)]
     fn append(&mut self, h: u32, ends: [u32; 2], windows: &mut [EndedWindow]) {
         if windows.is_empty() {
             return;
@@ -540,42 +545,10 @@ impl<'a> Solver<'a> {
         let list = &mut self.pool[idx as usize];
         let before = list.len();
         let tol = &self.tol;
-        match (self.options.pruning.pairs, self.options.merge) {
-            _ if self.sorted_merge => merge_sorted(list, windows, &mut self.buffers, tol),
-            (PairRule::Off, Merge::OrderFree) => list.extend_from_slice(windows),
-            (PairRule::Off, Merge::OrderPreserving) => {
-                for &w in windows.iter() {
-                    let at = list.partition_point(|e| e.window.b0 <= w.window.b0);
-                    list.insert(at, w);
-                }
-            }
-            (PairRule::Adjacent, Merge::OrderFree) => {
-                for &w in windows.iter() {
-                    merge_behind(list, w, tol);
-                }
-            }
-            (PairRule::Off, Merge::Sorted) => {
-                list.extend_from_slice(windows);
-                list.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
-            }
-            (PairRule::Adjacent, Merge::Sorted) => {
-                unreachable!("sorted_merge is set exactly for this rule, matched first")
-            }
-            (PairRule::Adjacent, Merge::OrderPreserving) => {
-                for &w in windows.iter() {
-                    merge_in_order(list, w, tol);
-                }
-            }
-            (PairRule::Exhaustive, _) => {
-                for &w in windows.iter() {
-                    merge_against_all(list, w, tol, false);
-                }
-            }
-            (PairRule::Trimming, _) => {
-                for &w in windows.iter() {
-                    merge_against_all(list, w, tol, true);
-                }
-            }
+        if self.sorted_merge {
+            merge_sorted(list, windows, &mut self.buffers, tol);
+        } else {
+            merge_as_configured(list, windows, self.options, tol);
         }
         let after = list.len();
         self.live = self.live + after as u64 - before as u64;
@@ -603,24 +576,29 @@ impl<'a> Solver<'a> {
                     self.enqueue(h);
                 }
             }
-            Schedule::FaceSorted => {
-                let f = h / 3;
-                if self.faces[f as usize][ENTERED] != NONE {
-                    self.enqueue(h);
-                } else {
-                    // FTP's triangle priority: the best path to the apex
-                    // through the windows waiting to enter it.
-                    let tri = Triangle::new(self.mesh.length(h), self.mesh.apex(h));
-                    let key = windows
-                        .iter()
-                        .map(|e| e.window.apex_distance(&tri).0)
-                        .fold(f64::INFINITY, f64::min);
-                    if key < self.face_key[f as usize] {
-                        self.face_key[f as usize] = key;
-                        self.face_heap.push(Reverse((key.to_bits(), f)));
-                    }
-                }
-            }
+            Schedule::FaceSorted => self.wait_for_face(h, windows),
+        }
+    }
+
+    /// FTP: a list of half-edge `h` received `windows`. If its face was
+    /// entered the list is queued; otherwise the face waits in the face
+    /// queue keyed on the best path to its apex through those windows (the
+    /// triangle priority). Out of line: the default schedule never calls it.
+    #[inline(never)]
+    fn wait_for_face(&mut self, h: u32, windows: &[EndedWindow]) {
+        let f = h / 3;
+        if self.faces[f as usize][ENTERED] != NONE {
+            self.enqueue(h);
+            return;
+        }
+        let tri = Triangle::new(self.mesh.length(h), self.mesh.apex(h));
+        let key = windows
+            .iter()
+            .map(|e| e.window.apex_distance(&tri).0)
+            .fold(f64::INFINITY, f64::min);
+        if key < self.face_key[f as usize] {
+            self.face_key[f as usize] = key;
+            self.face_heap.push(Reverse((key.to_bits(), f)));
         }
     }
 
@@ -792,6 +770,54 @@ impl<'a> Solver<'a> {
         DistanceField::from_vertices(self.mesh, self.options.max_distance, |v| {
             (self.verts[v].dist, self.verts[v].src)
         })
+    }
+}
+
+/// The merges of the ablation variants (every pair rule and merge but the
+/// default adjacent-pairs sorted merge, which [`Solver::append`] calls
+/// directly). Out of line, so the default append stays small.
+#[inline(never)]
+fn merge_as_configured(
+    list: &mut Vec<EndedWindow>,
+    windows: &mut [EndedWindow],
+    options: &VtpOptions,
+    tol: &Tolerance,
+) {
+    match (options.pruning.pairs, options.merge) {
+        (PairRule::Off, Merge::OrderFree) => list.extend_from_slice(windows),
+        (PairRule::Off, Merge::OrderPreserving) => {
+            for &w in windows.iter() {
+                let at = list.partition_point(|e| e.window.b0 <= w.window.b0);
+                list.insert(at, w);
+            }
+        }
+        (PairRule::Adjacent, Merge::OrderFree) => {
+            for &w in windows.iter() {
+                merge_behind(list, w, tol);
+            }
+        }
+        (PairRule::Off, Merge::Sorted) => {
+            list.extend_from_slice(windows);
+            list.sort_unstable_by(|a, b| a.window.b0.total_cmp(&b.window.b0));
+        }
+        (PairRule::Adjacent, Merge::Sorted) => {
+            unreachable!("the default merge is called by Solver::append itself")
+        }
+        (PairRule::Adjacent, Merge::OrderPreserving) => {
+            for &w in windows.iter() {
+                merge_in_order(list, w, tol);
+            }
+        }
+        (PairRule::Exhaustive, _) => {
+            for &w in windows.iter() {
+                merge_against_all(list, w, tol, false);
+            }
+        }
+        (PairRule::Trimming, _) => {
+            for &w in windows.iter() {
+                merge_against_all(list, w, tol, true);
+            }
+        }
     }
 }
 
