@@ -107,8 +107,11 @@ impl VertexQueue {
                 break;
             }
             let right = left + 1;
-            let child = if right < n && self.heap[right] < self.heap[left] {
-                right
+            // Which child is smaller is a coin toss: chosen by arithmetic,
+            // not a branch (a mispredicted branch costs more than both
+            // comparisons).
+            let child = if right < n {
+                left + usize::from(precedes(self.heap[right], self.heap[left]))
             } else {
                 left
             };
@@ -128,6 +131,12 @@ impl VertexQueue {
         self.heap[i] = entry;
         self.at[entry.1 as usize] = i as u32;
     }
+}
+
+/// `a < b` for heap entries (distance bits, then vertex), without branches.
+#[inline]
+fn precedes(a: (u64, u32), b: (u64, u32)) -> bool {
+    (a.0 < b.0) | ((a.0 == b.0) & (a.1 < b.1))
 }
 
 #[cfg(test)]

@@ -714,7 +714,7 @@ impl<'a> Solver<'a> {
         for (i, e) in list.iter().enumerate() {
             let w = &e.window;
             let (t, sp, d) = info[i];
-            let dominated = i != s && self.tol.beats(best, d);
+            let dominated = (i != s) & self.tol.beats(best, d);
             let cut = match rule1 {
                 Rule1::OneAngleTwoSides => dominated,
                 // Only windows that split at the apex, against a best one
