@@ -658,7 +658,7 @@ fn cross(
         let (t, sp, dj) = info[j];
         // Rule 1 (Proposition 4.1 of Qin et al.): only against a best
         // window that beats this one by more than the tolerance.
-        let cut = (j != k && tol.beats(best, dj)).then_some(sp_s);
+        let cut = ((j != k) & tol.beats(best, dj)).then_some(sp_s);
         let r = one_angle_two_sides(w, t, sp, cut);
         if let Some((x0, x1, reach)) = r.left {
             props += 1;
