@@ -3,7 +3,9 @@
 
 use anyhow::Result;
 use geodesics::{Algorithm, AvtpOptions};
+use serde_json::{Value, json};
 
+use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, build_renumbered, data_dir, read};
 
 /// λ values of the table.
@@ -24,8 +26,10 @@ fn relative_errors(approx: &[f64], exact: &[f64]) -> (f64, f64) {
     (sum / n.max(1) as f64, max)
 }
 
-pub fn table(runs: usize, large: bool) -> Result<()> {
+/// The table, then how much the mean error falls per doubling of λ.
+pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     let dir = data_dir()?;
+    let mut report = Report::new("avtp", Some(runs), &dir, json)?;
     let bunny = read(&dir.join("bunny.off"))?;
     let mut cases = vec![
         ("bunny.off".to_string(), bunny.clone()),
@@ -44,13 +48,27 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
             geodesics_shapes::loop_subdivide(&bunny, 2)?,
         ));
     }
-    println!(
-        "AVTP and PAVTP against exact VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every AVTP and PAVTP once; solve only); speed-ups are the median (range) of the per-round ratios\n"
+    report.table(
+        Some(format!(
+            "AVTP and PAVTP against exact VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every AVTP and PAVTP once; solve only); speed-ups are the median (range) of the per-round ratios"
+        )),
+        [
+            vec![Column::left("mesh")],
+            Column::rights(&[
+                "F",
+                "λ",
+                "best s",
+                "speed-up over VTP",
+                "propagations",
+                "mean rel. error",
+                "max rel. error",
+                "PAVTP T=2 best s",
+                "PAVTP speed-up over AVTP",
+                "PAVTP mean rel. error",
+            ]),
+        ]
+        .concat(),
     );
-    println!(
-        "| mesh | F | λ | best s | speed-up over VTP | propagations | mean rel. error | max rel. error | PAVTP T=2 best s | PAVTP speed-up over AVTP | PAVTP mean rel. error |"
-    );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut falls = Vec::new();
     for (name, soup) in cases {
         let mesh = build_renumbered(soup, false)?;
@@ -65,12 +83,19 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
         }
         let timed = Interleaved::run(&mesh, &algorithms, runs)?;
         let (exact, vtp_stats) = &timed.fastest[0];
-        println!(
-            "| {name} | {} | exact VTP | {:.3} | 1.0 | {} | 0 | 0 | | | |",
-            mesh.face_count(),
-            timed.best(0),
-            vtp_stats.window_propagations
-        );
+        report.row(vec![
+            Cell::text(&name),
+            Cell::shown(mesh.face_count()),
+            Cell::text("exact VTP"),
+            Cell::fixed(timed.best(0), 3),
+            Cell::fixed(1.0, 1),
+            Cell::shown(vtp_stats.window_propagations),
+            Cell::shown(0),
+            Cell::shown(0),
+            Cell::empty(),
+            Cell::empty(),
+            Cell::empty(),
+        ]);
         let mut means = Vec::new();
         for (k, lambda) in LAMBDAS.into_iter().enumerate() {
             let (a, p) = (1 + 2 * k, 2 + 2 * k);
@@ -78,34 +103,49 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
             let (mean, max) = relative_errors(&field.distance, &exact.distance);
             means.push(mean);
             let (pmean, _) = relative_errors(&timed.fastest[p].0.distance, &exact.distance);
-            println!(
-                "| {name} | {} | {lambda} | {:.3} | {} | {} | {mean:.2e} | {max:.2e} | {:.3} | {} | {pmean:.2e} |",
-                mesh.face_count(),
-                timed.best(a),
-                timed.speed_up(0, a),
-                stats.window_propagations,
-                timed.best(p),
-                timed.speed_up(a, p)
-            );
+            report.row(vec![
+                Cell::text(&name),
+                Cell::shown(mesh.face_count()),
+                Cell::shown(lambda),
+                Cell::fixed(timed.best(a), 3),
+                Cell::spread(timed.speed_up(0, a)),
+                Cell::shown(stats.window_propagations),
+                Cell::sci(mean, 2),
+                Cell::sci(max, 2),
+                Cell::fixed(timed.best(p), 3),
+                Cell::spread(timed.speed_up(a, p)),
+                Cell::sci(pmean, 2),
+            ]);
         }
         falls.push((name, means));
     }
     // Du et al.'s claim, and issue 5's goal: the mean error at least halves
     // each time λ doubles.
-    println!(
-        "\nAVTP mean error at each λ divided by the one at λ/2 (at most 0.5 when it halves):\n"
+    report.note(
+        "\nAVTP mean error at each λ divided by the one at λ/2 (at most 0.5 when it halves):\n",
     );
+    let mut section = serde_json::Map::new();
     for (name, means) in falls {
-        let ratios: Vec<String> = means
+        let ratios: Vec<(f64, f64)> = means
             .windows(2)
             .zip(LAMBDAS.into_iter().skip(1))
-            .map(|(m, lambda)| {
-                let r = m[1] / m[0];
+            .map(|(m, lambda)| (lambda, m[1] / m[0]))
+            .collect();
+        let printed: Vec<String> = ratios
+            .iter()
+            .map(|&(lambda, r)| {
                 let flag = if r <= 0.5 { "" } else { " (not halved)" };
                 format!("{lambda}: {r:.3}{flag}")
             })
             .collect();
-        println!("- {name}: {}", ratios.join(", "));
+        // Printed only: its numbers are the `mean_error_falls` section.
+        println!("- {name}: {}", printed.join(", "));
+        let structured: Vec<Value> = ratios
+            .iter()
+            .map(|&(lambda, r)| json!({"lambda": lambda, "ratio": number(r), "halved": r <= 0.5}))
+            .collect();
+        section.insert(name, Value::Array(structured));
     }
-    Ok(())
+    report.section("mean_error_falls", Value::Object(section));
+    report.finish()
 }

@@ -19,6 +19,7 @@ use std::process::Command;
 use anyhow::{Context, Result, bail};
 use geodesics::{Algorithm, Source};
 
+use crate::report::{Cell, Column, JsonFile, Report};
 use crate::{build_renumbered, data_dir, read};
 
 const MESHES: [&str; 2] = ["bunny.off", "armadillo.obj"];
@@ -33,7 +34,7 @@ struct Counts {
 }
 
 /// The table. `only`: a comma-separated list of algorithm names.
-pub fn table(only: Option<&str>) -> Result<()> {
+pub fn table(only: Option<&str>, json: Option<JsonFile>) -> Result<()> {
     let names: Vec<&str> = only
         .unwrap_or(DEFAULT_ALGORITHMS)
         .split(',')
@@ -49,29 +50,49 @@ pub fn table(only: Option<&str>) -> Result<()> {
         );
     }
     let dir = data_dir()?;
+    let mut report = Report::new("count", None, &dir, json)?;
     let exe = std::env::current_exe().context("the xtask binary's own path")?;
-    println!(
-        "Per solve from vertex 0 (cachegrind: one solve subtracted from three, halved; L2 simulated at 2 MB; parallel solvers on 1 thread)\n"
+    report.table(
+        Some(
+            "Per solve from vertex 0 (cachegrind: one solve subtracted from three, halved; L2 simulated at 2 MB; parallel solvers on 1 thread)".to_string(),
+        ),
+        [
+            vec![Column::left("mesh"), Column::left("algorithm")],
+            Column::rights(&[
+                "instructions",
+                "L1 data misses",
+                "L2 data misses",
+                "propagations",
+            ]),
+        ]
+        .concat(),
     );
-    println!(
-        "| mesh | algorithm | instructions | L1 data misses | L2 data misses | propagations |"
-    );
-    println!("|---|---|---:|---:|---:|---:|");
     for file in MESHES {
         let path = dir.join(file);
         for &name in &names {
             let (one, propagations) = cachegrind(&exe, &path, name, 1)?;
             let (three, _) = cachegrind(&exe, &path, name, 3)?;
             let per_solve = |f: fn(&Counts) -> u64| f(&three).saturating_sub(f(&one)) / 2;
-            println!(
-                "| {file} | {name} | {} | {} | {} | {propagations} |",
-                per_solve(|c| c.instructions),
-                per_solve(|c| c.l1_misses),
-                per_solve(|c| c.l2_misses),
-            );
+            report.row(vec![
+                Cell::text(file),
+                Cell::text(name),
+                Cell::shown(per_solve(|c| c.instructions)),
+                Cell::shown(per_solve(|c| c.l1_misses)),
+                Cell::shown(per_solve(|c| c.l2_misses)),
+                propagations_cell(propagations),
+            ]);
         }
     }
-    Ok(())
+    report.finish()
+}
+
+/// The propagations `solve-times` printed: printed as they came, written
+/// as a number when they are one.
+fn propagations_cell(printed: String) -> Cell {
+    match printed.parse::<u64>() {
+        Ok(n) => Cell::new(printed, n.into()),
+        Err(_) => Cell::text(printed),
+    }
 }
 
 /// Runs `solves` solves of `name` on `mesh` under cachegrind: its totals

@@ -24,6 +24,14 @@
 //!   `armadillo.obj`: the same on every run, so they settle a change to a
 //!   hot path on a noisy machine.
 //!
+//! Every one of these commands also takes `--json FILE`: it then writes the
+//! numbers it prints to `FILE` as JSON (each table with its title, columns
+//! and rows; numbers as numbers, unrounded; ratios printed as
+//! `median (min–max)` as `{"median", "min", "max"}`), for CI benchmark
+//! tracking and plots. The markdown on standard output is the same with or
+//! without it. The file is written atomically, never over an existing file
+//! that does not end in `.json` nor into the mesh folder.
+//!
 //! Meshes come from `GEODESICS_DATA` (default `../shared/data/meshes`).
 //! Times are the minimum over the runs; only ratios measured in one run mean
 //! much on a shared machine, so where a table compares solvers (PVTP's
@@ -39,14 +47,17 @@ use std::time::Instant;
 mod avtp;
 mod count;
 mod pvtp;
+mod report;
 mod tables;
 
 use anyhow::{Context, Result, bail};
 use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
+use report::{Cell, Column, JsonFile, Report};
+use serde_json::json;
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N] | count [--algorithms a,b]";
+    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N] | count [--algorithms a,b]; each also takes --json FILE (the printed numbers as JSON)";
     let Some(command) = args.first() else {
         eprintln!("{USAGE}");
         return Ok(());
@@ -56,13 +67,16 @@ fn main() -> Result<()> {
         return Ok(());
     }
     let runs = flag_value(&args, "--runs")?.unwrap_or(3);
+    let large = args.iter().any(|a| a == "--large");
+    // Not for `solve-times`, whose arguments are positional.
+    let json = || flag_json(&args);
     match command.as_str() {
-        "bench" => bench(runs, args.iter().any(|a| a == "--large")),
-        "avtp" => avtp::table(runs, args.iter().any(|a| a == "--large")),
-        "tables" => tables::table(runs, flag_text(&args, "--algorithms")),
-        "pvtp" => pvtp::table(runs, args.iter().any(|a| a == "--large")),
-        "load" => load(runs),
-        "count" => count::table(flag_text(&args, "--algorithms")),
+        "bench" => bench(runs, large, json()?),
+        "avtp" => avtp::table(runs, large, json()?),
+        "tables" => tables::table(runs, flag_text(&args, "--algorithms"), json()?),
+        "pvtp" => pvtp::table(runs, large, json()?),
+        "load" => load(runs, json()?),
+        "count" => count::table(flag_text(&args, "--algorithms"), json()?),
         // Run by `count` under cachegrind, not by hand.
         "solve-times" => count::solve_times(&args[1..]),
         other => {
@@ -79,6 +93,21 @@ fn flag_text<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
         .map(String::as_str)
 }
 
+/// The file after `--json`, checked (see [`JsonFile::new`]), if given.
+fn flag_json(args: &[String]) -> Result<Option<JsonFile>> {
+    match args.iter().position(|a| a == "--json") {
+        None => Ok(None),
+        Some(i) => {
+            let path = args
+                .get(i + 1)
+                .filter(|p| !p.starts_with("--"))
+                .context("--json takes a file name")?;
+            Ok(Some(JsonFile::new(Path::new(path))?))
+        }
+    }
+}
+
+/// The number after `flag`, if given.
 fn flag_value(args: &[String], flag: &str) -> Result<Option<usize>> {
     match args.iter().position(|a| a == flag) {
         None => Ok(None),
@@ -271,8 +300,10 @@ impl BenchCase {
     }
 }
 
-fn bench(runs: usize, large: bool) -> Result<()> {
+/// `cargo xtask bench`: the VTP speed table, then gdist against VTP.
+fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     let dir = data_dir()?;
+    let mut report = Report::new("bench", Some(runs), &dir, json)?;
     let bunny = read(&dir.join("bunny.off"))?;
     // (name, mesh, authors' VTP seconds and propagations from peer-figures.md)
     let mut cases = vec![
@@ -292,13 +323,26 @@ fn bench(runs: usize, large: bool) -> Result<()> {
         let soup = geodesics_shapes::loop_subdivide(&bunny, 2)?;
         cases.push(BenchCase::new("bunny.off, Loop x2", soup, None));
     }
-    println!(
-        "VTP from vertex 0, best of {runs} runs (solve only), on the mesh renumbered for locality as the CLI loads it; the file-order column solves the mesh kept in file order (`--keep-order`), alternating with the first\n"
+    report.table(
+        Some(format!(
+            "VTP from vertex 0, best of {runs} runs (solve only), on the mesh renumbered for locality as the CLI loads it; the file-order column solves the mesh kept in file order (`--keep-order`), alternating with the first"
+        )),
+        [
+            vec![Column::left("mesh")],
+            Column::rights(&[
+                "F",
+                "VTP s",
+                "ns / propagation",
+                "ns / propagation, file order",
+                "propagations",
+                "peak live windows",
+                "peak window KiB",
+                "authors' VTP s",
+                "authors' propagations",
+            ]),
+        ]
+        .concat(),
     );
-    println!(
-        "| mesh | F | VTP s | ns / propagation | ns / propagation, file order | propagations | peak live windows | peak window KiB | authors' VTP s | authors' propagations |"
-    );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut bunny_mesh = None;
     for BenchCase {
         name,
@@ -321,23 +365,26 @@ fn bench(runs: usize, large: bool) -> Result<()> {
                 (s_kept, st_kept) = (t, stats);
             }
         }
-        let (at, ap) = authors.map_or(("—".to_string(), "—".to_string()), |(t, p)| {
-            (format!("{t:.3}"), p.to_string())
+        let (at, ap) = authors.map_or((Cell::missing(), Cell::missing()), |(t, p)| {
+            (Cell::fixed(t, 3), Cell::shown(p))
         });
-        println!(
-            "| {name} | {} | {s:.3} | {:.1} | {:.1} | {} | {} | {:.0} | {at} | {ap} |",
-            mesh.face_count(),
-            1e9 * s / st.window_propagations.max(1) as f64,
-            1e9 * s_kept / st_kept.window_propagations.max(1) as f64,
-            st.window_propagations,
-            st.peak_live_windows,
-            st.peak_window_bytes as f64 / 1024.0,
-        );
+        report.row(vec![
+            Cell::text(&name),
+            Cell::shown(mesh.face_count()),
+            Cell::fixed(s, 3),
+            Cell::fixed(1e9 * s / st.window_propagations.max(1) as f64, 1),
+            Cell::fixed(1e9 * s_kept / st_kept.window_propagations.max(1) as f64, 1),
+            Cell::shown(st.window_propagations),
+            Cell::shown(st.peak_live_windows),
+            Cell::fixed(st.peak_window_bytes as f64 / 1024.0, 0),
+            at,
+            ap,
+        ]);
         if name == "bunny.off" {
             bunny_mesh = Some(mesh);
         }
     }
-    println!();
+    report.note("");
     // gdist against VTP in alternating runs, the ratio taken per pair.
     let path = dir.join("bunny.off");
     let mut pairs = Vec::new();
@@ -351,33 +398,59 @@ fn bench(runs: usize, large: bool) -> Result<()> {
         }
     }
     if pairs.is_empty() {
-        println!("gdist not measured: run ../shared/tools/oracle/setup.sh once to install it");
+        report.note("gdist not measured: run ../shared/tools/oracle/setup.sh once to install it");
+        report.section("gdist", serde_json::Value::Null);
     } else {
         let best = |f: fn(&(f64, f64)) -> f64| pairs.iter().map(f).fold(f64::INFINITY, f64::min);
+        let (gdist_best, vtp_best) = (best(|p| p.0), best(|p| p.1));
+        let faster = Spread::of(pairs.iter().map(|(g, v)| g / v).collect());
+        // Printed only: its numbers are the `gdist` section.
         println!(
-            "gdist (MMP, tvb-gdist) on bunny.off from vertex 0, alternating with VTP, {} pairs: gdist best {:.3} s, VTP best {:.3} s; VTP faster by {} (median and range of the pairs)",
+            "gdist (MMP, tvb-gdist) on bunny.off from vertex 0, alternating with VTP, {} pairs: gdist best {gdist_best:.3} s, VTP best {vtp_best:.3} s; VTP faster by {faster} (median and range of the pairs)",
             pairs.len(),
-            best(|p| p.0),
-            best(|p| p.1),
-            Spread::of(pairs.iter().map(|(g, v)| g / v).collect())
+        );
+        report.section(
+            "gdist",
+            json!({
+                "mesh": "bunny.off",
+                "source": 0,
+                "pairs": pairs.len(),
+                "gdist_best_s": report::number(gdist_best),
+                "vtp_best_s": report::number(vtp_best),
+                "vtp_faster": Cell::spread(faster),
+            }),
         );
     }
-    Ok(())
+    report.finish()
 }
 
-fn load(runs: usize) -> Result<()> {
+/// `cargo xtask load`: read and build times of every mesh in the folder.
+fn load(runs: usize, json: Option<JsonFile>) -> Result<()> {
     let dir = data_dir()?;
+    let mut report = Report::new("load", Some(runs), &dir, json)?;
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.is_file() && p.extension().is_some_and(|e| e != "md" && e != "jsonl"))
         .collect();
     files.sort();
-    println!(
-        "Read and topology build, best of {runs} runs, {}\n",
-        dir.display()
+    report.table(
+        Some(format!(
+            "Read and topology build, best of {runs} runs, {}",
+            dir.display()
+        )),
+        [
+            vec![Column::left("mesh")],
+            Column::rights(&[
+                "V",
+                "F",
+                "read s",
+                "build s",
+                "total s",
+                "build s, renumbered (as the CLI)",
+            ]),
+        ]
+        .concat(),
     );
-    println!("| mesh | V | F | read s | build s | total s | build s, renumbered (as the CLI) |");
-    println!("|---|---:|---:|---:|---:|---:|---:|");
     for path in files {
         let name = path
             .file_name()
@@ -399,12 +472,15 @@ fn load(runs: usize) -> Result<()> {
             build_renumbered(soup, false).with_context(|| name.clone())?;
             renumbered_s = renumbered_s.min(t.elapsed().as_secs_f64());
         }
-        println!(
-            "| {name} | {} | {} | {read_s:.4} | {build_s:.4} | {:.4} | {renumbered_s:.4} |",
-            size.0,
-            size.1,
-            read_s + build_s
-        );
+        report.row(vec![
+            Cell::text(name),
+            Cell::shown(size.0),
+            Cell::shown(size.1),
+            Cell::fixed(read_s, 4),
+            Cell::fixed(build_s, 4),
+            Cell::fixed(read_s + build_s, 4),
+            Cell::fixed(renumbered_s, 4),
+        ]);
     }
-    Ok(())
+    report.finish()
 }

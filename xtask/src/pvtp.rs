@@ -4,11 +4,15 @@
 
 use anyhow::Result;
 use geodesics::{Algorithm, PvtpOptions};
+use serde_json::json;
 
+use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, build_renumbered, data_dir, read};
 
-pub fn table(runs: usize, large: bool) -> Result<()> {
+/// The scaling table, one row for VTP and one per thread count, per mesh.
+pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     let dir = data_dir()?;
+    let mut report = Report::new("pvtp", Some(runs), &dir, json)?;
     let bunny = read(&dir.join("bunny.off"))?;
     let mut cases = vec![
         (
@@ -36,13 +40,24 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
     if !threads.contains(&cores) {
         threads.push(cores);
     }
-    println!(
-        "PVTP against VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every T once; solve only), {cores} logical CPUs\n"
+    report.table(
+        Some(format!(
+            "PVTP against VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every T once; solve only), {cores} logical CPUs"
+        )),
+        [
+            vec![Column::left("mesh"), Column::right("F"), Column::left("solver")],
+            Column::rights(&[
+                "T",
+                "best s",
+                "speed-up over T=1",
+                "speed-up over VTP",
+                "propagations / VTP's",
+                "phases",
+                "outside the phases",
+            ]),
+        ]
+        .concat(),
     );
-    println!(
-        "| mesh | F | solver | T | best s | speed-up over T=1 | speed-up over VTP | propagations / VTP's | phases | outside the phases |"
-    );
-    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|");
     for (name, mesh) in cases {
         let mut algorithms = vec![Algorithm::default()];
         algorithms.extend(threads.iter().map(|&t| {
@@ -53,32 +68,47 @@ pub fn table(runs: usize, large: bool) -> Result<()> {
         }));
         let timed = Interleaved::run(&mesh, &algorithms, runs)?;
         let vtp = &timed.fastest[0].1;
-        println!(
-            "| {name} | {} | VTP | 1 | {:.3} | — | 1.00 | 1.000 | — | — |",
-            mesh.face_count(),
-            timed.best(0)
-        );
+        report.row(vec![
+            Cell::text(&name),
+            Cell::shown(mesh.face_count()),
+            Cell::text("VTP"),
+            Cell::shown(1),
+            Cell::fixed(timed.best(0), 3),
+            Cell::missing(),
+            Cell::fixed(1.0, 2),
+            Cell::fixed(1.0, 3),
+            Cell::missing(),
+            Cell::missing(),
+        ]);
         for (k, &t) in threads.iter().enumerate() {
             let i = k + 1;
             let st = &timed.fastest[i].1;
             // The one-thread part (selection, delayed writes, setup): what
             // bounds the speed-up, whatever T.
             let outside = st.management_seconds;
-            println!(
-                "| {name} | {} | PVTP | {t} | {:.3} | {} | {} | {:.3} | {} | {:.3} s ({:.0} %) |",
-                mesh.face_count(),
-                timed.best(i),
-                timed.speed_up(1, i),
-                timed.speed_up(0, i),
-                st.window_propagations as f64 / vtp.window_propagations.max(1) as f64,
-                st.parallel_phases,
-                outside,
-                100.0 * outside / st.total_seconds.max(f64::MIN_POSITIVE)
-            );
+            let percent = 100.0 * outside / st.total_seconds.max(f64::MIN_POSITIVE);
+            report.row(vec![
+                Cell::text(&name),
+                Cell::shown(mesh.face_count()),
+                Cell::text("PVTP"),
+                Cell::shown(t),
+                Cell::fixed(timed.best(i), 3),
+                Cell::spread(timed.speed_up(1, i)),
+                Cell::spread(timed.speed_up(0, i)),
+                Cell::fixed(
+                    st.window_propagations as f64 / vtp.window_propagations.max(1) as f64,
+                    3,
+                ),
+                Cell::shown(st.parallel_phases),
+                Cell::new(
+                    format!("{outside:.3} s ({percent:.0} %)"),
+                    json!({"seconds": number(outside), "percent": number(percent)}),
+                ),
+            ]);
         }
     }
-    println!(
-        "\nSpeed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run."
+    report.note(
+        "\nSpeed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run.",
     );
-    Ok(())
+    report.finish()
 }

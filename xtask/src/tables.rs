@@ -6,10 +6,12 @@
 use anyhow::Result;
 use geodesics::Algorithm;
 
+use crate::report::{Cell, Column, JsonFile, Report};
 use crate::{best_of, build_renumbered, data_dir, read};
 
-/// `only`: a comma-separated subset of the algorithm names (all if `None`).
-pub fn table(runs: usize, only: Option<&str>) -> Result<()> {
+/// One table per mesh. `only`: a comma-separated subset of the algorithm
+/// names (all if `None`).
+pub fn table(runs: usize, only: Option<&str>, json: Option<JsonFile>) -> Result<()> {
     let names: Vec<&str> = match only {
         Some(list) => list.split(',').map(str::trim).collect(),
         None => Algorithm::NAMES.to_vec(),
@@ -18,14 +20,27 @@ pub fn table(runs: usize, only: Option<&str>) -> Result<()> {
         name.parse::<Algorithm>()?;
     }
     let dir = data_dir()?;
-    println!("Every algorithm from vertex 0, best of {runs} runs (solve only)\n");
+    let mut report = Report::new("tables", Some(runs), &dir, json)?;
+    report.note(&format!(
+        "Every algorithm from vertex 0, best of {runs} runs (solve only)\n"
+    ));
     for file in ["bunny.off", "armadillo.obj"] {
         let mesh = build_renumbered(read(&dir.join(file))?, false)?;
-        println!("{file} ({} faces)\n", mesh.face_count());
-        println!(
-            "| algorithm | s | × VTP time | propagations | × VTP propagations | peak windows | peak window KiB |"
+        report.table(
+            Some(format!("{file} ({} faces)", mesh.face_count())),
+            [
+                vec![Column::left("algorithm")],
+                Column::rights(&[
+                    "s",
+                    "× VTP time",
+                    "propagations",
+                    "× VTP propagations",
+                    "peak windows",
+                    "peak window KiB",
+                ]),
+            ]
+            .concat(),
         );
-        println!("|---|---:|---:|---:|---:|---:|---:|");
         let (vtp_s, _, vtp) = best_of(&mesh, &Algorithm::default(), runs)?;
         for &name in &names {
             let algorithm: Algorithm = name.parse()?;
@@ -37,16 +52,20 @@ pub fn table(runs: usize, only: Option<&str>) -> Result<()> {
                     (s, st)
                 }
             };
-            println!(
-                "| {name} | {s:.3} | {:.2} | {} | {:.2} | {} | {:.0} |",
-                s / vtp_s,
-                st.window_propagations,
-                st.window_propagations as f64 / vtp.window_propagations.max(1) as f64,
-                st.peak_live_windows,
-                st.peak_window_bytes as f64 / 1024.0
-            );
+            report.row(vec![
+                Cell::text(name),
+                Cell::fixed(s, 3),
+                Cell::fixed(s / vtp_s, 2),
+                Cell::shown(st.window_propagations),
+                Cell::fixed(
+                    st.window_propagations as f64 / vtp.window_propagations.max(1) as f64,
+                    2,
+                ),
+                Cell::shown(st.peak_live_windows),
+                Cell::fixed(st.peak_window_bytes as f64 / 1024.0, 0),
+            ]);
         }
-        println!();
+        report.note("");
     }
-    Ok(())
+    report.finish()
 }
