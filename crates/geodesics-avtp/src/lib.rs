@@ -181,6 +181,35 @@ mod tests {
     }
 
     #[test]
+    fn resets_and_threads_are_counted() {
+        let mesh = Mesh::build(
+            geodesics_shapes::flat_grid(30, 30, 1.0),
+            &BuildOptions::default(),
+        )
+        .unwrap();
+        let sources = [Source::Vertex(0)];
+        let lambda = 4.0;
+        let (field, stats) = solve(&mesh, &sources, &AvtpOptions::with_lambda(lambda)).unwrap();
+        // One reset per multiple of λh the wavefront passes: a step (about
+        // 4.6 here) is longer than any edge, so no pop jumps two at once.
+        let step = lambda * mesh.average_edge_length();
+        let farthest = field.distance.iter().copied().fold(0.0, f64::max);
+        assert_eq!(stats.window_resets, (farthest / step).floor() as u64);
+        assert_eq!(stats.threads, 1);
+        // PAVTP resets between rounds, several steps at once at most.
+        let parallel = AvtpOptions {
+            threads: Some(2),
+            ..AvtpOptions::with_lambda(lambda)
+        };
+        let (_, stats) = solve(&mesh, &sources, &parallel).unwrap();
+        assert!((1..=(farthest / step).floor() as u64).contains(&stats.window_resets));
+        assert_eq!(stats.threads, 2);
+        // Exact: no reset.
+        let (_, stats) = geodesics_vtp::solve(&mesh, &sources, &Default::default()).unwrap();
+        assert_eq!((stats.window_resets, stats.threads), (0, 1));
+    }
+
+    #[test]
     fn flat_grids_stay_close_to_euclidean() {
         // On a plane the exact distance is Euclidean; AVTP is never below
         // it and within a few percent at λ = 4.

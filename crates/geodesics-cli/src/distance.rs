@@ -75,6 +75,15 @@ struct StatsReport<'a> {
     vertex_pops: u64,
     pseudo_source_emissions: u64,
     parallel_phases: u64,
+    /// Threads the solve ran on.
+    threads: u64,
+    /// AVTP/PAVTP: the reset step λ and guard band λ_g (mean edge
+    /// lengths), and how many resets happened; `null`/0 for exact solvers.
+    lambda: Option<f64>,
+    lambda_g: Option<f64>,
+    window_resets: u64,
+    /// `--max-distance` (propagation stopped beyond it), if given.
+    distance_limit: Option<f64>,
     propagation_seconds: f64,
     pruning_seconds: f64,
     management_seconds: f64,
@@ -238,6 +247,13 @@ fn stats_report<'a>(
     solve_seconds: f64,
 ) -> StatsReport<'a> {
     let finite = field.distance.iter().copied().filter(|d| d.is_finite());
+    let (reset, distance_limit) = match algorithm {
+        Algorithm::Avtp(o) => (Some(o.reset()), o.max_distance),
+        Algorithm::Vtp(o) => (o.reset, o.max_distance),
+        Algorithm::Pvtp(o) => (o.reset, o.max_distance),
+        Algorithm::Mmp(o) => (None, o.max_distance),
+        Algorithm::Ich(o) => (None, o.max_distance),
+    };
     StatsReport {
         mesh: &loaded.name,
         algorithm: algorithm.name().to_string(),
@@ -254,6 +270,11 @@ fn stats_report<'a>(
         vertex_pops: stats.vertex_pops,
         pseudo_source_emissions: stats.pseudo_source_emissions,
         parallel_phases: stats.parallel_phases,
+        threads: stats.threads,
+        lambda: reset.map(|r| r.lambda),
+        lambda_g: reset.map(|r| r.lambda_g),
+        window_resets: stats.window_resets,
+        distance_limit,
         propagation_seconds: stats.propagation_seconds,
         pruning_seconds: stats.pruning_seconds,
         management_seconds: stats.management_seconds,
@@ -283,6 +304,16 @@ fn summary(r: &StatsReport, output: &Option<PathBuf>) -> String {
         r.peak_windows,
         r.peak_window_bytes as f64 / 1024.0
     );
+    if let (Some(lambda), Some(lambda_g)) = (r.lambda, r.lambda_g) {
+        s += &format!(
+            "approximate: λ = {lambda}, λ_g = {lambda_g} (mean edge lengths), {} window reset{}\n",
+            r.window_resets,
+            if r.window_resets == 1 { "" } else { "s" }
+        );
+    }
+    if r.threads > 1 {
+        s += &format!("ran on {} threads\n", r.threads);
+    }
     if let Some(out) = output {
         s += &format!("wrote {}\n", out.display());
     }

@@ -111,6 +111,57 @@ fn flat_grid_from_a_face_point_is_euclidean() {
 }
 
 #[test]
+fn stats_say_which_parameters_ran() {
+    // A stats file is read long after the run: it names λ, λ_g, the
+    // threads and the distance limit that produced its numbers.
+    let dir = scratch("params");
+    let stats = dir.join("stats.json");
+    let run = |extra: &[&str]| -> (String, Value) {
+        let mut args = vec!["distance", "--demo", "bumpy:3", "--stats", s(&stats)];
+        args.extend_from_slice(extra);
+        let stdout = ok(&geodesics(&args));
+        let json = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        (stdout, json)
+    };
+    let (stdout, json) = run(&["--algorithm", "avtp", "--lambda", "4"]);
+    assert_eq!(json["lambda"], 4.0);
+    assert_eq!(json["lambda_g"], 8.0);
+    assert_eq!(json["threads"], 1);
+    let resets = json["window_resets"].as_u64().unwrap();
+    assert!(resets > 0, "{json}");
+    assert!(
+        stdout.contains(&format!(
+            "λ = 4, λ_g = 8 (mean edge lengths), {resets} window resets"
+        )),
+        "{stdout}"
+    );
+    let (stdout, json) = run(&[
+        "--algorithm",
+        "pvtp",
+        "--threads",
+        "2",
+        "--max-distance",
+        "1",
+    ]);
+    assert_eq!(json["threads"], 2);
+    assert_eq!(json["distance_limit"], 1.0);
+    assert!(
+        json["lambda"].is_null() && json["lambda_g"].is_null(),
+        "{json}"
+    );
+    assert_eq!(json["window_resets"], 0);
+    assert!(stdout.contains("ran on 2 threads"), "{stdout}");
+    let (stdout, json) = run(&[]);
+    assert_eq!(json["threads"], 1);
+    assert!(json["distance_limit"].is_null(), "{json}");
+    assert!(
+        !stdout.contains("approximate") && !stdout.contains("threads"),
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
 fn hand_matches_the_reference_and_writes_every_format() {
     let Some(data) = data_dir("distance CLI on hand.off") else {
         return;

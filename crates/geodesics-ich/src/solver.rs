@@ -80,6 +80,7 @@ pub(crate) fn solve(
     s.run();
     options.progress.set_reached(s.reached);
     let mut stats = std::mem::take(&mut s.stats);
+    stats.threads = 1;
     let field = s.finish();
     stats.total_seconds = start.elapsed().as_secs_f64();
     stats.peak_window_bytes = stats.peak_live_windows * std::mem::size_of::<Window>() as u64;

@@ -269,6 +269,7 @@ pub(crate) fn solve(
     let field = s.finish_field();
     let mut solved = s.into_solved();
     solved.stats.total_seconds = start.elapsed().as_secs_f64();
+    solved.stats.threads = 1;
     Ok((field, solved))
 }
 

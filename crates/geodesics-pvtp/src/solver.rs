@@ -1426,6 +1426,8 @@ impl<'a> Solver<'a> {
             vertex,
         );
         let mut stats = std::mem::take(&mut self.stats);
+        stats.threads = self.threads as u64;
+        stats.window_resets = self.reset.as_ref().map_or(0, ResetFront::resets);
         stats.total_seconds = start.elapsed().as_secs_f64();
         stats.propagation_seconds = self.parallel_seconds;
         stats.pruning_seconds = 0.0;

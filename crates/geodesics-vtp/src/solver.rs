@@ -114,6 +114,8 @@ pub(crate) fn solve(
     s.run();
     options.progress.set_reached(s.settled);
     let mut stats = std::mem::take(&mut s.stats);
+    stats.threads = 1;
+    stats.window_resets = s.reset.as_ref().map_or(0, ResetFront::resets);
     let prov = std::mem::take(&mut s.prov);
     let field = s.finish();
     stats.total_seconds = start.elapsed().as_secs_f64();

@@ -124,6 +124,13 @@ pub struct Stats {
     /// (PVTP and PAVTP; 0 for the sequential solvers). Each costs a
     /// fork/join, so fewer phases for the same work scale better.
     pub parallel_phases: u64,
+    /// Threads the solve ran on: 1 for the sequential solvers, the size of
+    /// the pool for PVTP and PAVTP (after `0`, "every logical CPU", was
+    /// resolved).
+    pub threads: u64,
+    /// AVTP and PAVTP: how many times the wavefront passed a multiple of
+    /// `λ·h` and its windows were reset (0 for the exact solvers).
+    pub window_resets: u64,
     /// Seconds spent propagating windows (Rule 1 splitting, children, and
     /// the vertex check applied to each child as it is made). Solvers may
     /// estimate this by timing a sample of their steps (VTP times one
