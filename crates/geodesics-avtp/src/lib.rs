@@ -162,13 +162,18 @@ mod tests {
     use super::*;
     use geodesics_mesh::BuildOptions;
 
-    #[test]
-    fn bad_parameters_are_errors() {
-        let mesh = Mesh::build(
-            geodesics_shapes::flat_grid(4, 4, 1.0),
+    /// A flat `n × n` grid of unit spacing.
+    fn grid(n: u32) -> Mesh {
+        Mesh::build(
+            geodesics_shapes::flat_grid(n, n, 1.0),
             &BuildOptions::default(),
         )
-        .unwrap();
+        .expect("a flat grid is a valid mesh")
+    }
+
+    #[test]
+    fn bad_parameters_are_errors() {
+        let mesh = grid(4);
         for (lambda, lambda_g) in [(0.0, 8.0), (-1.0, 8.0), (f64::NAN, 8.0), (4.0, -1.0)] {
             let options = AvtpOptions {
                 lambda,
@@ -182,11 +187,7 @@ mod tests {
 
     #[test]
     fn resets_and_threads_are_counted() {
-        let mesh = Mesh::build(
-            geodesics_shapes::flat_grid(30, 30, 1.0),
-            &BuildOptions::default(),
-        )
-        .unwrap();
+        let mesh = grid(30);
         let sources = [Source::Vertex(0)];
         let lambda = 4.0;
         let (field, stats) = solve(&mesh, &sources, &AvtpOptions::with_lambda(lambda)).unwrap();
@@ -214,11 +215,7 @@ mod tests {
         // On a plane the exact distance is Euclidean; AVTP is never below
         // it and within a few percent at λ = 4.
         let n = 30;
-        let mesh = Mesh::build(
-            geodesics_shapes::flat_grid(n, n, 1.0),
-            &BuildOptions::default(),
-        )
-        .unwrap();
+        let mesh = grid(n);
         let (field, _) =
             solve(&mesh, &[Source::Vertex(0)], &AvtpOptions::with_lambda(4.0)).unwrap();
         for (v, d) in field.distance.iter().enumerate() {
