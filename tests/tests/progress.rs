@@ -60,13 +60,21 @@ fn the_count_grows_and_ends_at_the_vertices_reached() {
 }
 
 #[test]
-fn a_second_solve_starts_from_zero() {
+fn each_solve_ends_at_its_own_count() {
+    // Two solves on one handle that reach different numbers of vertices,
+    // both below `Progress::REPORT_EVERY`: each must store its own final
+    // count, not leave the last solve's (or the reset's 0) behind.
     let mesh = two_components(6);
     let progress = Progress::tracked();
-    let algorithm = Algorithm::default().with_progress(progress.clone());
     // 7 × 7 vertices each, the second grid's first vertex is 49.
-    for source in [0, 49] {
-        compute(&mesh, &[Source::Vertex(source)], &algorithm).expect("a valid solve");
-        assert_eq!(progress.reached(), 49);
+    for (source, limit) in [(0, None), (49, Some(1.5))] {
+        let algorithm = Algorithm::default()
+            .with_max_distance(limit)
+            .with_progress(progress.clone());
+        let (field, _) =
+            compute(&mesh, &[Source::Vertex(source)], &algorithm).expect("a valid solve");
+        let reached = field.distance.iter().filter(|d| d.is_finite()).count() as u64;
+        assert_eq!(progress.reached(), reached, "from {source}");
     }
+    assert!(progress.reached() < 49, "the limited solve reached fewer");
 }

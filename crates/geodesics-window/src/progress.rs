@@ -43,8 +43,8 @@ impl Progress {
         Progress(Some(Arc::default()))
     }
 
-    /// Whether this handle has a counter (solvers skip the bookkeeping
-    /// otherwise).
+    /// Whether this handle has a counter (an untracked one reports 0 of
+    /// 0 whatever the solve does).
     #[inline]
     pub fn is_tracked(&self) -> bool {
         self.0.is_some()
