@@ -5,8 +5,11 @@
 //!   issue (solve time, ns per window propagation, propagations, peak window
 //!   memory) on `bunny.off`, `armadillo.obj` and a Loop-subdivided bunny,
 //!   with gdist (an independent MMP) timed in the same run when its
-//!   environment exists, and the authors' published figures beside ours.
-//!   `--large` adds a second Loop step (1.1 M faces).
+//!   environment exists, and the authors' published figures beside ours;
+//!   then the peak resident memory of a whole `geodesics distance` process
+//!   on `bunny.off` and `armadillo.obj` (a separate process each), against
+//!   the authors' VTP process. `--large` adds a second Loop step (1.1 M
+//!   faces).
 //! - `cargo xtask avtp [--runs N] [--large]`: AVTP's accuracy/speed table,
 //!   λ from 2 to 128 against exact VTP in the same run, on the same meshes.
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
@@ -50,7 +53,7 @@ mod pvtp;
 mod report;
 mod tables;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, bail, ensure};
 use geodesics::{Algorithm, BuildOptions, Mesh, Source, Stats};
 use report::{Cell, Column, JsonFile, Report};
 use serde_json::json;
@@ -300,7 +303,8 @@ impl BenchCase {
     }
 }
 
-/// `cargo xtask bench`: the VTP speed table, then gdist against VTP.
+/// `cargo xtask bench`: the VTP speed table, gdist against VTP, then the
+/// CLI's peak memory.
 fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     let dir = data_dir()?;
     let mut report = Report::new("bench", Some(runs), &dir, json)?;
@@ -421,7 +425,76 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             }),
         );
     }
+    memory(&mut report, &dir)?;
     report.finish()
+}
+
+/// The authors' VTP process's peak resident memory, MB, from
+/// `peer-figures.md`.
+const AUTHORS_PEAK_RSS_MB: [(&str, f64); 2] = [("bunny.off", 43.0), ("armadillo.obj", 52.0)];
+
+/// Bench's memory table: the peak resident memory of a whole
+/// `geodesics distance MESH --source 0` process (read, build, solve,
+/// write), as the authors' figure counts theirs. A separate process per
+/// mesh: this one's peak is long past.
+fn memory(report: &mut Report, dir: &Path) -> Result<()> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let built = Command::new(cargo)
+        .args([
+            "build",
+            "--release",
+            "--quiet",
+            "--package",
+            "geodesics-cli",
+        ])
+        .status()
+        .context("building the geodesics CLI")?;
+    ensure!(built.success(), "building the geodesics CLI failed");
+    let cli = std::env::current_exe()?
+        .with_file_name(format!("geodesics{}", std::env::consts::EXE_SUFFIX));
+    report.note("");
+    report.table(
+        Some(
+            "Peak resident memory of the whole `geodesics distance MESH --source 0` process (read, build, solve, write: VmHWM), against the authors' VTP process on the same mesh"
+                .to_string(),
+        ),
+        [
+            vec![Column::left("mesh")],
+            Column::rights(&["peak RSS MiB", "authors' VTP peak RSS MB"]),
+        ]
+        .concat(),
+    );
+    let scratch = std::env::temp_dir().join(format!("xtask-memory-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch)?;
+    let measured = (|| {
+        for (name, authors) in AUTHORS_PEAK_RSS_MB {
+            let (out, stats) = (scratch.join("d.txt"), scratch.join("stats.json"));
+            let run = Command::new(&cli)
+                .arg("distance")
+                .arg(dir.join(name))
+                .args(["--source", "0", "--output"])
+                .arg(&out)
+                .arg("--stats")
+                .arg(&stats)
+                .output()
+                .with_context(|| format!("running {}", cli.display()))?;
+            ensure!(
+                run.status.success(),
+                "geodesics distance {name}: {}",
+                String::from_utf8_lossy(&run.stderr)
+            );
+            let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats)?)?;
+            let rss = json["peak_rss_bytes"]
+                .as_u64()
+                .map_or(Cell::missing(), |b| {
+                    Cell::fixed(b as f64 / (1 << 20) as f64, 1)
+                });
+            report.row(vec![Cell::text(name), rss, Cell::fixed(authors, 0)]);
+        }
+        Ok(())
+    })();
+    let _ = std::fs::remove_dir_all(&scratch);
+    measured
 }
 
 /// `cargo xtask load`: read and build times of every mesh in the folder.

@@ -91,6 +91,11 @@ struct StatsReport<'a> {
     max_distance: f64,
     load_seconds: f64,
     build_seconds: f64,
+    /// The most memory this process held resident at once, from loading
+    /// the mesh to writing the output (Linux's `VmHWM`; `null` where the
+    /// system does not report it): what `/usr/bin/time` calls the maximum
+    /// resident set size.
+    peak_rss_bytes: Option<u64>,
 }
 
 /// Runs `geodesics distance`.
@@ -282,7 +287,18 @@ fn stats_report<'a>(
         max_distance: finite.fold(0.0, f64::max),
         load_seconds: loaded.load_seconds,
         build_seconds: loaded.build_seconds,
+        peak_rss_bytes: peak_resident_bytes(),
     }
+}
+
+/// The peak resident memory of this process so far, in bytes, or `None`
+/// where the system does not say (it is read from `/proc/self/status`).
+fn peak_resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    // "VmHWM:     21056 kB"
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }
 
 fn summary(r: &StatsReport, output: &Option<PathBuf>) -> String {

@@ -197,6 +197,17 @@ fn hand_matches_the_reference_and_writes_every_format() {
         assert!(json[key].is_number(), "stats lacks {key}: {json}");
     }
     assert!(json["window_propagations"].as_u64().unwrap() > 0);
+    // The process's peak memory: at least the mesh it read, far below a
+    // gigabyte for a 2,390-face hand.
+    if cfg!(target_os = "linux") {
+        let rss = json["peak_rss_bytes"]
+            .as_u64()
+            .expect("Linux reports VmHWM");
+        let file = std::fs::metadata(&mesh).unwrap().len();
+        assert!(file < rss && rss < 1 << 30, "peak_rss_bytes {rss}");
+    } else {
+        assert!(json["peak_rss_bytes"].is_null() || json["peak_rss_bytes"].is_u64());
+    }
 
     // Several sources: the field is the minimum.
     ok(&geodesics(&[
