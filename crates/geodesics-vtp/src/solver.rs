@@ -54,6 +54,17 @@ const UPCOMING: usize = crate::queue::ARITY + 1;
 /// armadillo.obj solve reading the clock.
 const PHASE_SAMPLE: u64 = 256;
 
+/// Scratch space of one list's crossing: Rule 1's `(t, sp, d)` per window
+/// and the children bound beyond each edge. Owned by the main loop and
+/// lent to each crossing, so no crossing moves it in and out of the
+/// solver.
+#[derive(Default)]
+struct CrossBuffers {
+    info: Vec<(f64, f64, f64)>,
+    left: Vec<EndedWindow>,
+    right: Vec<EndedWindow>,
+}
+
 struct Solver<'a> {
     mesh: &'a Mesh,
     options: &'a VtpOptions,
@@ -78,11 +89,8 @@ struct Solver<'a> {
     settled: u64,
     live: u64,
     stats: Stats,
-    left: Vec<EndedWindow>,
-    right: Vec<EndedWindow>,
     /// Spare buffers of [`merge_sorted`].
     buffers: MergeBuffers,
-    info: Vec<(f64, f64, f64)>,
     /// When the current list's children were computed (phase timing, on
     /// the sampled lists only).
     merge_start: Option<Instant>,
@@ -176,10 +184,7 @@ impl<'a> Solver<'a> {
             settled: 0,
             live: 0,
             stats: Stats::default(),
-            left: Vec::new(),
-            right: Vec::new(),
             buffers: MergeBuffers::default(),
-            info: Vec::new(),
             merge_start: None,
             timing: false,
             lists_processed: 0,
@@ -302,9 +307,10 @@ impl<'a> Solver<'a> {
 
     fn run(&mut self) {
         let mesh = self.mesh;
+        let mut scratch = CrossBuffers::default();
         let face_sorted = self.options.schedule == Schedule::FaceSorted;
         loop {
-            if face_sorted && self.pop_face() {
+            if face_sorted && self.pop_face(&mut scratch) {
                 continue;
             }
             let Some((key, v)) = self.heap.pop() else {
@@ -374,7 +380,7 @@ impl<'a> Solver<'a> {
                 self.emit(v);
             }
             while let Some(h) = self.fifo.pop_front() {
-                self.process(h);
+                self.process(h, &mut scratch);
             }
         }
     }
@@ -382,7 +388,7 @@ impl<'a> Solver<'a> {
     /// FTP: traverses the waiting face whose entering lists reach its apex
     /// soonest, if that comes before the next vertex. Returns whether a face
     /// was taken (or a stale entry dropped).
-    fn pop_face(&mut self) -> bool {
+    fn pop_face(&mut self, scratch: &mut CrossBuffers) -> bool {
         let Some(&Reverse((key, f))) = self.face_heap.peek() else {
             return false;
         };
@@ -408,7 +414,7 @@ impl<'a> Solver<'a> {
             self.enqueue(e);
         }
         while let Some(h) = self.fifo.pop_front() {
-            self.process(h);
+            self.process(h, scratch);
         }
         true
     }
@@ -613,7 +619,7 @@ impl<'a> Solver<'a> {
     /// Propagates the list of half-edge `h` through its face (Rules 1 and 2,
     /// vertex check), lights the apex, and merges the children into the
     /// lists beyond the two other edges.
-    fn process(&mut self, h: u32) {
+    fn process(&mut self, h: u32, scratch: &mut CrossBuffers) {
         let slot = self.slot_mut(h);
         let idx = *slot & !QUEUED;
         *slot = NO_LIST;
@@ -631,7 +637,7 @@ impl<'a> Solver<'a> {
         let mesh = self.mesh;
         let f = Mesh::face_of(h);
         match self.kind[f as usize] {
-            FaceKind::Proper => self.cross(h, &list),
+            FaceKind::Proper => self.cross(h, &list, scratch),
             FaceKind::Zipper => {
                 if mesh.length(h) > 0.0 {
                     let n = Mesh::next(h);
@@ -657,7 +663,7 @@ impl<'a> Solver<'a> {
         }
     }
 
-    fn cross(&mut self, h: u32, list: &[EndedWindow]) {
+    fn cross(&mut self, h: u32, list: &[EndedWindow], scratch: &mut CrossBuffers) {
         let mesh = self.mesh;
         let f = Mesh::face_of(h);
         let n = Mesh::next(h);
@@ -674,7 +680,7 @@ impl<'a> Solver<'a> {
         // drop 0.3 % of them (armadillo.obj, bunny.off), for 7 % of the
         // solve's instructions. Their children still meet the check.
         // Rule 1: separating points, the list's best path to C.
-        let mut info = std::mem::take(&mut self.info);
+        let CrossBuffers { info, left, right } = scratch;
         info.clear();
         let mut best = f64::INFINITY;
         let mut s = 0;
@@ -702,11 +708,20 @@ impl<'a> Solver<'a> {
         }
         let sp_s = info.get(s).map_or(0.0, |x| x.1);
         let prime = self.faces[f as usize][ENTERED] == self.pops;
-        let rule1 = self.options.pruning.rule1;
         let check = self.options.pruning.vertex_check;
-        let best_splits = info
-            .get(s)
-            .is_some_and(|x| list[s].window.b0 <= x.0 && x.0 <= list[s].window.b1);
+        // Rule 1 as configured, decided per list, not per window: which
+        // dominated windows it cuts (every one, or with `OneAngleOneSplit`
+        // only one splitting at the apex, against a best one that splits
+        // there too: Case 9; none when it is off).
+        let (cut_all, cut_splitting) = match self.options.pruning.rule1 {
+            Rule1::OneAngleTwoSides => (true, false),
+            Rule1::OneAngleOneSplit => (
+                false,
+                info.get(s)
+                    .is_some_and(|x| list[s].window.b0 <= x.0 && x.0 <= list[s].window.b1),
+            ),
+            Rule1::Off => (false, false),
+        };
         let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
         let a_right = tri.to_right_frame(DVec2::ZERO);
         let (da, db, dc) = (
@@ -714,8 +729,6 @@ impl<'a> Solver<'a> {
             self.verts[b as usize].dist,
             self.verts[c as usize].dist,
         );
-        let mut left = std::mem::take(&mut self.left);
-        let mut right = std::mem::take(&mut self.right);
         left.clear();
         right.clear();
         let mut props = 0u64;
@@ -723,14 +736,8 @@ impl<'a> Solver<'a> {
             let w = &e.window;
             let (t, sp, d) = info[i];
             let dominated = (i != s) & self.tol.beats(best, d);
-            let cut = match rule1 {
-                Rule1::OneAngleTwoSides => dominated,
-                // Only windows that split at the apex, against a best one
-                // that splits there too (Case 9).
-                Rule1::OneAngleOneSplit => dominated && best_splits && w.b0 <= t && t <= w.b1,
-                Rule1::Off => false,
-            }
-            .then_some(sp_s);
+            let splits = (w.b0 <= t) & (t <= w.b1);
+            let cut = (dominated & (cut_all | (cut_splitting & splits))).then_some(sp_s);
             let r = one_angle_two_sides(w, t, sp, cut);
             if let Some((x0, x1, reach)) = r.left {
                 props += 1;
@@ -764,14 +771,11 @@ impl<'a> Solver<'a> {
         }
         // Beyond C → A and beyond B → C.
         if let Some(t) = mesh.twin(p) {
-            self.append(t, [c, a], &mut left);
+            self.append(t, [c, a], left);
         }
         if let Some(t) = mesh.twin(n) {
-            self.append(t, [b, c], &mut right);
+            self.append(t, [b, c], right);
         }
-        self.left = left;
-        self.right = right;
-        self.info = info;
     }
 
     fn finish(self) -> DistanceField {
