@@ -627,14 +627,16 @@ fn cross(
     info.clear();
     let mut best = f64::INFINITY;
     let mut k = 0;
-    for (j, e) in list.iter().enumerate() {
-        let (t, sp, dj) = e.apex_path(&tri);
-        info.push((t, sp, dj));
-        if dj < best {
-            best = dj;
+    // One reservation for the whole list (an exact-length extend), not a
+    // capacity check per window.
+    info.extend(list.iter().enumerate().map(|(j, e)| {
+        let path = e.apex_path(&tri);
+        if path.2 < best {
+            best = path.2;
             k = j;
         }
-    }
+        path
+    }));
     if best < d[ic] {
         d[ic] = best;
         let arrival = Arrival::Window {

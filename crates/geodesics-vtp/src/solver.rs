@@ -684,14 +684,16 @@ impl<'a> Solver<'a> {
         info.clear();
         let mut best = f64::INFINITY;
         let mut s = 0;
-        for (i, e) in list.iter().enumerate() {
-            let (t, sp, d) = e.apex_path(&tri);
-            info.push((t, sp, d));
-            if d < best {
-                best = d;
+        // One reservation for the whole list (an exact-length extend), not
+        // a capacity check per window.
+        info.extend(list.iter().enumerate().map(|(i, e)| {
+            let path = e.apex_path(&tri);
+            if path.2 < best {
+                best = path.2;
                 s = i;
             }
-        }
+            path
+        }));
         if best.is_finite() {
             let w = list[s].window;
             let bend = info[s].1;
