@@ -55,9 +55,10 @@ const UPCOMING: usize = crate::queue::ARITY + 1;
 const PHASE_SAMPLE: u64 = 256;
 
 /// Scratch space of one list's crossing: Rule 1's `(t, sp, d)` per window
-/// and the children bound beyond each edge. Owned by the main loop and
-/// lent to each crossing, so no crossing moves it in and out of the
-/// solver.
+/// and the children bound beyond each edge (`left` and `right` keep at
+/// least a slot per window of the longest list so far; a crossing fills
+/// their fronts). Owned by the main loop and lent to each crossing, so no
+/// crossing moves it in and out of the solver.
 #[derive(Default)]
 struct CrossBuffers {
     info: Vec<(f64, f64, f64)>,
@@ -731,8 +732,13 @@ impl<'a> Solver<'a> {
             self.verts[b as usize].dist,
             self.verts[c as usize].dist,
         );
-        left.clear();
-        right.clear();
+        // Each window has at most one child per side: the buffers hold a
+        // slot per window, filled from the front (no length kept per push).
+        if left.len() < list.len() {
+            left.resize(list.len(), list[0]);
+            right.resize(list.len(), list[0]);
+        }
+        let (mut n_left, mut n_right) = (0, 0);
         let mut props = 0u64;
         for (i, e) in list.iter().enumerate() {
             let w = &e.window;
@@ -746,7 +752,8 @@ impl<'a> Solver<'a> {
                 if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
                     let cw = EndedWindow::new(cw);
                     if !(check && vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &self.tol)) {
-                        left.push(cw);
+                        left[n_left] = cw;
+                        n_left += 1;
                     }
                 }
             }
@@ -756,7 +763,8 @@ impl<'a> Solver<'a> {
                     let cw = EndedWindow::new(cw);
                     if !(check && vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &self.tol))
                     {
-                        right.push(cw);
+                        right[n_right] = cw;
+                        n_right += 1;
                     }
                 }
             }
@@ -773,10 +781,10 @@ impl<'a> Solver<'a> {
         }
         // Beyond C → A and beyond B → C.
         if let Some(t) = mesh.twin(p) {
-            self.append(t, [c, a], left);
+            self.append(t, [c, a], &mut left[..n_left]);
         }
         if let Some(t) = mesh.twin(n) {
-            self.append(t, [b, c], right);
+            self.append(t, [b, c], &mut right[..n_right]);
         }
     }
 
