@@ -427,11 +427,47 @@ fn helper(i: usize, state: &RwLock<Solver<'_>>, workers: &[Mutex<Worker>], crew:
 struct Scratch {
     /// Per edge `3f + e` of the job's face: the windows bound for the list
     /// beyond it.
-    beyond: [Vec<EndedWindow>; 3],
+    beyond: [Bound; 3],
     info: Vec<(f64, f64, f64)>,
     /// Pool entries this worker gives to the lists it starts.
     free: Vec<u32>,
     merge: MergeBuffers,
+}
+
+/// The windows a job binds for the list beyond one edge of its face:
+/// `windows[..len]`. The slots past `len` stay for the next job, so a
+/// crossing stores its children into slots it made room for, keeping the
+/// count in a register, instead of pushing each one.
+#[derive(Default)]
+struct Bound {
+    windows: Vec<EndedWindow>,
+    len: usize,
+}
+
+impl Bound {
+    #[inline]
+    fn push(&mut self, w: EndedWindow) {
+        if self.len < self.windows.len() {
+            self.windows[self.len] = w;
+        } else {
+            self.windows.push(w);
+        }
+        self.len += 1;
+    }
+
+    /// Makes slots `len..len + n` exist (`fill` is a placeholder).
+    #[inline]
+    fn make_room(&mut self, n: usize, fill: EndedWindow) {
+        let need = self.len + n;
+        if self.windows.len() < need {
+            self.windows.resize(need, fill);
+        }
+    }
+
+    #[inline]
+    fn is_empty(&self) -> bool {
+        self.len == 0
+    }
 }
 
 /// One face job: emit the pseudo-source windows of its corners, then
@@ -508,7 +544,10 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
                     } else {
                         Mesh::prev(h)
                     };
-                    s.beyond[(other - 3 * f) as usize].extend_from_slice(&list);
+                    let bound = &mut s.beyond[(other - 3 * f) as usize];
+                    for &w in list.iter() {
+                        bound.push(w);
+                    }
                 }
             }
             FaceKind::Blocked => {}
@@ -523,11 +562,11 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
     // over the list beyond instead of up to three.
     for e in 0..3 {
         if !s.beyond[e].is_empty() {
-            let mut windows = std::mem::take(&mut s.beyond[e]);
+            let mut bound = std::mem::take(&mut s.beyond[e]);
             let ends = [corners[e], corners[(e + 1) % 3]];
-            append_beyond(sh, f, e, ends, &mut windows, s, out);
-            windows.clear();
-            s.beyond[e] = windows;
+            append_beyond(sh, f, e, ends, &mut bound.windows[..bound.len], s, out);
+            bound.len = 0;
+            s.beyond[e] = bound;
         }
     }
 }
@@ -654,6 +693,12 @@ fn cross(
         .beyond
         .get_disjoint_mut([ic, ib])
         .expect("ib and ic are distinct edges of the face");
+    // At most one child per window and side.
+    if let Some(&first) = list.first() {
+        left.make_room(list.len(), first);
+        right.make_room(list.len(), first);
+    }
+    let (mut n_left, mut n_right) = (left.len, right.len);
     let mut props = 0u64;
     for (j, e) in list.iter().enumerate() {
         let w = &e.window;
@@ -667,7 +712,8 @@ fn cross(
             if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
                 let cw = EndedWindow::new(cw);
                 if !vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &tol) {
-                    left.push(cw);
+                    left.windows[n_left] = cw;
+                    n_left += 1;
                 }
             }
         }
@@ -676,11 +722,13 @@ fn cross(
             if let Some(cw) = w.child_right(&tri, x0, x1, from) {
                 let cw = EndedWindow::new(cw);
                 if !vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &tol) {
-                    right.push(cw);
+                    right.windows[n_right] = cw;
+                    n_right += 1;
                 }
             }
         }
     }
+    (left.len, right.len) = (n_left, n_right);
     out.props += props;
 }
 
