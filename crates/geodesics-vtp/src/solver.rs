@@ -1,7 +1,7 @@
 //! Algorithm 1 of Qin et al. 2016 (vertex-oriented triangle propagation).
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, VecDeque};
+use std::collections::BinaryHeap;
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
@@ -83,7 +83,10 @@ struct Solver<'a> {
     faces: Vec<FaceLists>,
     pool: Vec<Vec<EndedWindow>>,
     free: Vec<u32>,
-    fifo: VecDeque<u32>,
+    /// The half-edges whose lists wait to be processed in this pop, in
+    /// order (drained to empty after each pop: a plain vector read
+    /// through a cursor, not a ring buffer).
+    fifo: Vec<u32>,
     pops: u32,
     /// Vertices the wavefront has passed (popped once), for the progress
     /// report.
@@ -180,7 +183,7 @@ impl<'a> Solver<'a> {
             faces: vec![[NO_LIST, NO_LIST, NO_LIST, NONE]; nf],
             pool: Vec::new(),
             free: Vec::new(),
-            fifo: VecDeque::new(),
+            fifo: Vec::new(),
             pops: 0,
             settled: 0,
             live: 0,
@@ -372,7 +375,7 @@ impl<'a> Solver<'a> {
                     for (i, word) in rec[..ENTERED].iter_mut().enumerate() {
                         if *word & QUEUED == 0 && *word != NO_LIST {
                             *word |= QUEUED;
-                            self.fifo.push_back(3 * f + i as u32);
+                            self.fifo.push(3 * f + i as u32);
                         }
                     }
                 }
@@ -380,10 +383,19 @@ impl<'a> Solver<'a> {
             if emit {
                 self.emit(v);
             }
-            while let Some(h) = self.fifo.pop_front() {
-                self.process(h, &mut scratch);
-            }
+            self.drain_fifo(&mut scratch);
         }
+    }
+
+    /// Processes the queued lists in order, those queued meanwhile too.
+    #[inline]
+    fn drain_fifo(&mut self, scratch: &mut CrossBuffers) {
+        let mut next = 0;
+        while let Some(&h) = self.fifo.get(next) {
+            next += 1;
+            self.process(h, scratch);
+        }
+        self.fifo.clear();
     }
 
     /// FTP: traverses the waiting face whose entering lists reach its apex
@@ -414,9 +426,7 @@ impl<'a> Solver<'a> {
         for e in 3 * f..3 * f + 3 {
             self.enqueue(e);
         }
-        while let Some(h) = self.fifo.pop_front() {
-            self.process(h, scratch);
-        }
+        self.drain_fifo(scratch);
         true
     }
 
@@ -524,7 +534,7 @@ impl<'a> Solver<'a> {
         let s = self.slot_mut(h);
         if *s & QUEUED == 0 && *s != NO_LIST {
             *s |= QUEUED;
-            self.fifo.push_back(h);
+            self.fifo.push(h);
         }
     }
 
