@@ -371,12 +371,9 @@ impl<'a> Solver<'a> {
                     if rec[ENTERED] == NONE {
                         rec[ENTERED] = self.pops;
                     }
-                    // `enqueue` on the record in hand (no index arithmetic).
+                    // On the record in hand (no index arithmetic).
                     for (i, word) in rec[..ENTERED].iter_mut().enumerate() {
-                        if *word & QUEUED == 0 && *word != NO_LIST {
-                            *word |= QUEUED;
-                            self.fifo.push(3 * f + i as u32);
-                        }
+                        queue_list(word, 3 * f + i as u32, &mut self.fifo);
                     }
                 }
             }
@@ -531,11 +528,8 @@ impl<'a> Solver<'a> {
 
     #[inline]
     fn enqueue(&mut self, h: u32) {
-        let s = self.slot_mut(h);
-        if *s & QUEUED == 0 && *s != NO_LIST {
-            *s |= QUEUED;
-            self.fifo.push(h);
-        }
+        let word = &mut self.faces.as_flattened_mut()[slot_index(h)];
+        queue_list(word, h, &mut self.fifo);
     }
 
     /// Appends windows to the list of half-edge `h`, pruning adjacent pairs
@@ -802,6 +796,16 @@ impl<'a> Solver<'a> {
         DistanceField::from_vertices(self.mesh, self.options.max_distance, |v| {
             (self.verts[v].dist, self.verts[v].src)
         })
+    }
+}
+
+/// Queues the list of half-edge `h`, whose list word is `word`, unless it
+/// has none or waits in `fifo` already.
+#[inline(always)]
+fn queue_list(word: &mut u32, h: u32, fifo: &mut Vec<u32>) {
+    if *word & QUEUED == 0 && *word != NO_LIST {
+        *word |= QUEUED;
+        fifo.push(h);
     }
 }
 
