@@ -521,6 +521,12 @@ impl<'a> Solver<'a> {
         self.faces.as_flattened()[slot_index(h)]
     }
 
+    /// Asks for the list word of half-edge `h` ahead of an append.
+    #[inline]
+    fn prefetch_list_word(&self, h: u32) {
+        geodesics_mesh::prefetch(&self.faces, Mesh::face_of(h) as usize);
+    }
+
     #[inline]
     fn slot_mut(&mut self, h: u32) -> &mut u32 {
         &mut self.faces.as_flattened_mut()[slot_index(h)]
@@ -674,6 +680,12 @@ impl<'a> Solver<'a> {
         let n = Mesh::next(h);
         let p = Mesh::prev(h);
         let (a, b, c) = (mesh.tail(h), mesh.head(h), mesh.tail(p));
+        // The list words beyond the two other edges are read when the
+        // children are appended: ask for them now.
+        let (beyond_left, beyond_right) = (mesh.twin(p), mesh.twin(n));
+        for t in [beyond_left, beyond_right].into_iter().flatten() {
+            self.prefetch_list_word(t);
+        }
         let tri = Triangle::with_lengths(
             mesh.length(h),
             self.mesh.apex(h),
@@ -784,10 +796,10 @@ impl<'a> Solver<'a> {
             self.merge_start = Some(Instant::now());
         }
         // Beyond C → A and beyond B → C.
-        if let Some(t) = mesh.twin(p) {
+        if let Some(t) = beyond_left {
             self.append(t, [c, a], &mut left[..n_left]);
         }
-        if let Some(t) = mesh.twin(n) {
+        if let Some(t) = beyond_right {
             self.append(t, [b, c], &mut right[..n_right]);
         }
     }
