@@ -329,7 +329,7 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     }
     report.table(
         Some(format!(
-            "VTP from vertex 0, best of {runs} runs (solve only; each round runs every mesh once), on the mesh renumbered for locality as the CLI loads it; the file-order column solves the mesh kept in file order (`--keep-order`), alternating with the first"
+            "VTP from vertex 0, best of {runs} runs (solve only; each round runs every mesh once, then gdist and VTP on bunny.off), on the mesh renumbered for locality as the CLI loads it; the file-order column solves the mesh kept in file order (`--keep-order`), alternating with the first. The machine is shared and its speed drifts: \"at reference speed\" scales ns / propagation by gdist's best time in this run against its time where the authors' figures were measured ({GDIST_REFERENCE_S} s on bunny.off, peer-figures.md)"
         )),
         [
             vec![Column::left("mesh")],
@@ -337,6 +337,7 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 "F",
                 "VTP s",
                 "ns / propagation",
+                "ns / propagation at reference speed",
                 "ns / propagation, file order",
                 "propagations",
                 "peak live windows",
@@ -378,6 +379,11 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             best_kept: none,
         });
     }
+    // gdist against VTP on bunny.off, a pair per round (the ratio taken
+    // per pair), until gdist turns out not to be installed.
+    let bunny_path = dir.join("bunny.off");
+    let mut pairs = Vec::new();
+    let mut gdist_installed = true;
     for _ in 0..runs.max(1) {
         for case in &mut timed {
             // Alternating, so that drift of the machine hits both alike.
@@ -390,10 +396,25 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 case.best_kept = (t, stats);
             }
         }
+        if gdist_installed {
+            match gdist_seconds(&bunny_path) {
+                Some(g) => {
+                    // The table's first mesh is bunny.off.
+                    let (v, _, _) = best_of(&timed[0].mesh, &Algorithm::default(), 1)?;
+                    pairs.push((g, v));
+                }
+                None => gdist_installed = false,
+            }
+        }
     }
-    let mut bunny_mesh = None;
+    let best = |f: fn(&(f64, f64)) -> f64| pairs.iter().map(f).fold(f64::INFINITY, f64::min);
+    let (gdist_best, vtp_best) = (best(|p| p.0), best(|p| p.1));
+    // How much faster than now the machine ran when the reference was
+    // measured (none without gdist).
+    let to_reference = (!pairs.is_empty()).then(|| GDIST_REFERENCE_S / gdist_best);
     for case in timed {
         let ((s, st), (s_kept, st_kept)) = (case.best, case.best_kept);
+        let ns_per_propagation = 1e9 * s / st.window_propagations.max(1) as f64;
         let (at, ap) = case
             .authors
             .map_or((Cell::missing(), Cell::missing()), |(t, p)| {
@@ -403,7 +424,8 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             Cell::text(&case.name),
             Cell::shown(case.mesh.face_count()),
             Cell::fixed(s, 3),
-            Cell::fixed(1e9 * s / st.window_propagations.max(1) as f64, 1),
+            Cell::fixed(ns_per_propagation, 1),
+            to_reference.map_or(Cell::missing(), |r| Cell::fixed(ns_per_propagation * r, 1)),
             Cell::fixed(1e9 * s_kept / st_kept.window_propagations.max(1) as f64, 1),
             Cell::shown(st.window_propagations),
             Cell::shown(st.peak_live_windows),
@@ -411,29 +433,12 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             at,
             ap,
         ]);
-        if case.name == "bunny.off" {
-            bunny_mesh = Some(case.mesh);
-        }
     }
     report.note("");
-    // gdist against VTP in alternating runs, the ratio taken per pair.
-    let path = dir.join("bunny.off");
-    let mut pairs = Vec::new();
-    if let Some(mesh) = &bunny_mesh {
-        for _ in 0..runs.max(1) {
-            let Some(g) = gdist_seconds(&path) else {
-                break;
-            };
-            let (v, _, _) = best_of(mesh, &Algorithm::default(), 1)?;
-            pairs.push((g, v));
-        }
-    }
     if pairs.is_empty() {
         report.note("gdist not measured: run ../shared/tools/oracle/setup.sh once to install it");
         report.section("gdist", serde_json::Value::Null);
     } else {
-        let best = |f: fn(&(f64, f64)) -> f64| pairs.iter().map(f).fold(f64::INFINITY, f64::min);
-        let (gdist_best, vtp_best) = (best(|p| p.0), best(|p| p.1));
         let faster = Spread::of(pairs.iter().map(|(g, v)| g / v).collect());
         // Printed only: its numbers are the `gdist` section.
         println!(
@@ -447,6 +452,7 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 "source": 0,
                 "pairs": pairs.len(),
                 "gdist_best_s": report::number(gdist_best),
+                "gdist_reference_s": GDIST_REFERENCE_S,
                 "vtp_best_s": report::number(vtp_best),
                 "vtp_faster": Cell::spread(faster),
             }),
@@ -455,6 +461,11 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     memory(&mut report, &dir)?;
     report.finish()
 }
+
+/// gdist's solve time on bunny.off from vertex 0 on the machine where the
+/// authors' figures were measured (`peer-figures.md`, the MMP column):
+/// the anchor that scales this machine's timings to that one's speed.
+const GDIST_REFERENCE_S: f64 = 1.377;
 
 /// The authors' VTP process's peak resident memory, MB, from
 /// `peer-figures.md`.
