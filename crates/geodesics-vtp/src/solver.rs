@@ -71,6 +71,8 @@ struct Solver<'a> {
     options: &'a VtpOptions,
     tol: Tolerance,
     kind: Vec<FaceKind>,
+    /// Every face is proper (no zero-area face): `kind` need not be read.
+    all_proper: bool,
     verts: Vec<VertexState>,
     /// Per vertex: how its shortest known path arrives (kept for vertices
     /// that emit only into their shadow).
@@ -170,11 +172,13 @@ impl<'a> Solver<'a> {
             ..
         } = setup;
         let mean_edge = mesh.average_edge_length();
+        let all_proper = kind.iter().all(|&k| k == FaceKind::Proper);
         Solver {
             mesh,
             options,
             tol,
             kind,
+            all_proper,
             verts,
             arrival: vec![Arrival::Unknown; nv],
             group_of,
@@ -494,7 +498,7 @@ impl<'a> Solver<'a> {
                 from: v,
                 length: lb,
             });
-            if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
+            if !self.all_proper && self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
                 continue;
             }
             let Some((t, w)) = rays.and_then(|r| pseudo_source_window(mesh, h, d, s, r)) else {
@@ -647,7 +651,12 @@ impl<'a> Solver<'a> {
         self.merge_start = t0;
         let mesh = self.mesh;
         let f = Mesh::face_of(h);
-        match self.kind[f as usize] {
+        let kind = if self.all_proper {
+            FaceKind::Proper
+        } else {
+            self.kind[f as usize]
+        };
+        match kind {
             FaceKind::Proper => self.cross(h, &list, scratch),
             FaceKind::Zipper => {
                 if mesh.length(h) > 0.0 {
