@@ -53,9 +53,19 @@ impl DistanceField {
         max_distance: Option<f64>,
         vertex: impl Fn(usize) -> (f64, u32),
     ) -> DistanceField {
-        let n = mesh.input_vertex_count() as u32;
-        let (distance, nearest_source): (Vec<f64>, Vec<u32>) =
-            (0..n).map(|u| vertex(mesh.mesh_vertex(u) as usize)).unzip();
+        // Scattered in the mesh's order: the solver's records are read in
+        // sequence, not at each input vertex's (renumbered) place.
+        let n = mesh.input_vertex_count();
+        let mut distance = vec![f64::INFINITY; n];
+        let mut nearest_source = vec![NO_SOURCE; n];
+        for v in 0..mesh.vertex_count() as u32 {
+            if mesh.is_pinch_copy(v) {
+                continue;
+            }
+            let u = mesh.pinch_origin(v) as usize;
+            debug_assert_eq!(mesh.mesh_vertex(u as u32), v);
+            (distance[u], nearest_source[u]) = vertex(v as usize);
+        }
         DistanceField::from_first_fans(mesh, max_distance, distance, nearest_source, vertex)
     }
 
