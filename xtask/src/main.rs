@@ -400,6 +400,7 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             match gdist_seconds(&bunny_path) {
                 Some(g) => {
                     // The table's first mesh is bunny.off.
+                    debug_assert_eq!(timed[0].name, "bunny.off");
                     let (v, _, _) = best_of(&timed[0].mesh, &Algorithm::default(), 1)?;
                     pairs.push((g, v));
                 }

@@ -498,7 +498,7 @@ impl<'a> Solver<'a> {
                 from: v,
                 length: lb,
             });
-            if !self.all_proper && self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
+            if self.face_kind(Mesh::face_of(h)) != FaceKind::Proper {
                 continue;
             }
             let Some((t, w)) = rays.and_then(|r| pseudo_source_window(mesh, h, d, s, r)) else {
@@ -523,6 +523,16 @@ impl<'a> Solver<'a> {
     #[inline]
     fn slot(&self, h: u32) -> u32 {
         self.faces.as_flattened()[slot_index(h)]
+    }
+
+    /// How face `f` is crossed (no table read when every face is proper).
+    #[inline]
+    fn face_kind(&self, f: u32) -> FaceKind {
+        if self.all_proper {
+            FaceKind::Proper
+        } else {
+            self.kind[f as usize]
+        }
     }
 
     /// Asks for the list word of half-edge `h` ahead of an append.
@@ -651,12 +661,7 @@ impl<'a> Solver<'a> {
         self.merge_start = t0;
         let mesh = self.mesh;
         let f = Mesh::face_of(h);
-        let kind = if self.all_proper {
-            FaceKind::Proper
-        } else {
-            self.kind[f as usize]
-        };
-        match kind {
+        match self.face_kind(f) {
             FaceKind::Proper => self.cross(h, &list, scratch),
             FaceKind::Zipper => {
                 if mesh.length(h) > 0.0 {
