@@ -44,6 +44,13 @@ fn slot_index(h: u32) -> usize {
     (h + h / 3) as usize
 }
 
+/// The list word of half-edge `h` in the face records (a free function,
+/// so a caller may hold it while it pushes to the solver's FIFO).
+#[inline]
+fn list_word(faces: &mut [FaceLists], h: u32) -> &mut u32 {
+    &mut faces.as_flattened_mut()[slot_index(h)]
+}
+
 /// How many queued vertices have their records loaded ahead: the top of
 /// the queue and its children, one of which is popped next.
 const UPCOMING: usize = crate::queue::ARITY + 1;
@@ -543,13 +550,12 @@ impl<'a> Solver<'a> {
 
     #[inline]
     fn slot_mut(&mut self, h: u32) -> &mut u32 {
-        &mut self.faces.as_flattened_mut()[slot_index(h)]
+        list_word(&mut self.faces, h)
     }
 
     #[inline]
     fn enqueue(&mut self, h: u32) {
-        let word = &mut self.faces.as_flattened_mut()[slot_index(h)];
-        queue_list(word, h, &mut self.fifo);
+        queue_list(list_word(&mut self.faces, h), h, &mut self.fifo);
     }
 
     /// Appends windows to the list of half-edge `h`, pruning adjacent pairs
