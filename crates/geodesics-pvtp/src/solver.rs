@@ -41,7 +41,8 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::{
-    MergeBuffers, beaten_from_edge_ends, merge_sorted, one_angle_two_sides, vertex_check_ended,
+    MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted, one_angle_two_sides,
+    vertex_check_ended,
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Progress, ResetFront, Shadow,
@@ -663,19 +664,7 @@ fn cross(
     // As in VTP, the list is not checked with vertices again before it
     // propagates (each window met the check as a child; see `cross` there).
     let info = &mut s.info;
-    info.clear();
-    let mut best = f64::INFINITY;
-    let mut k = 0;
-    // One reservation for the whole list (an exact-length extend), not a
-    // capacity check per window.
-    info.extend(list.iter().enumerate().map(|(j, e)| {
-        let path = e.apex_path(&tri);
-        if path.2 < best {
-            best = path.2;
-            k = j;
-        }
-        path
-    }));
+    let (best, k) = apex_paths(list, &tri, info);
     if best < d[ic] {
         d[ic] = best;
         let arrival = Arrival::Window {

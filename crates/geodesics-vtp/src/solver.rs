@@ -6,8 +6,9 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::{
-    MergeBuffers, PairOutcome, SplitOutcome, beaten_from_edge_ends, merge_behind, merge_sorted,
-    one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting, vertex_check_ended,
+    MergeBuffers, PairOutcome, SplitOutcome, apex_paths, beaten_from_edge_ends, merge_behind,
+    merge_sorted, one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting,
+    vertex_check_ended,
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, ResetFront, Shadow, SolverSetup, Source, Stats,
@@ -718,19 +719,7 @@ impl<'a> Solver<'a> {
         // solve's instructions. Their children still meet the check.
         // Rule 1: separating points, the list's best path to C.
         let CrossBuffers { info, left, right } = scratch;
-        info.clear();
-        let mut best = f64::INFINITY;
-        let mut s = 0;
-        // One reservation for the whole list (an exact-length extend), not
-        // a capacity check per window.
-        info.extend(list.iter().enumerate().map(|(i, e)| {
-            let path = e.apex_path(&tri);
-            if path.2 < best {
-                best = path.2;
-                s = i;
-            }
-            path
-        }));
+        let (best, s) = apex_paths(list, &tri, info);
         if best.is_finite() {
             let w = list[s].window;
             let bend = info[s].1;

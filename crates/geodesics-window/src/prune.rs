@@ -30,6 +30,31 @@ pub struct SideRanges {
     pub right: Option<(f64, f64, bool)>,
 }
 
+/// Rule 1's first pass over a list crossing `tri`: each window's view of
+/// the apex ([`EndedWindow::apex_path`]: `(t, sp, d)`) into `paths`
+/// (cleared first), and the list's best path to the apex with the index
+/// of the window giving it (the first on ties; `(∞, 0)` when none lights
+/// it). Filled by one exact-length extend, not a push per window.
+#[inline]
+pub fn apex_paths(
+    list: &[EndedWindow],
+    tri: &crate::Triangle,
+    paths: &mut Vec<(f64, f64, f64)>,
+) -> (f64, usize) {
+    paths.clear();
+    let mut best = f64::INFINITY;
+    let mut at = 0;
+    paths.extend(list.iter().enumerate().map(|(i, e)| {
+        let path = e.apex_path(tri);
+        if path.2 < best {
+            best = path.2;
+            at = i;
+        }
+        path
+    }));
+    (best, at)
+}
+
 /// Rule 1, "one angle two sides" (Proposition 4.1; Cases 7–9 of Fig 3).
 ///
 /// `t` is the window's split parameter (where its line to `C` crosses `AB`)
