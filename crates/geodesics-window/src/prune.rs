@@ -1014,6 +1014,35 @@ mod tests {
     }
 
     #[test]
+    fn apex_paths_finds_the_list_s_best_path_to_the_apex_first_on_ties() {
+        // Apex C = (1, 1) over AB of length 2; sources below.
+        let tri = crate::Triangle::new(2.0, DVec2::new(1.0, 1.0));
+        let list: Vec<EndedWindow> = [
+            win(0.0, 2.0, (1.0, -1.0), 1.0), // sees C straight: 1 + 2 = 3
+            win(0.0, 2.0, (1.0, -1.0), 0.5), // the same, shorter: 2.5
+            win(0.0, 2.0, (1.0, -1.0), 0.5), // ties with the second
+            win(0.0, 0.5, (1.0, -1.0), 1.0), // bent at b1 = 0.5: 1 + √5 ≈ 3.24
+        ]
+        .map(EndedWindow::new)
+        .to_vec();
+        let mut paths = vec![(9.0, 9.0, 9.0)]; // stale content is cleared
+        let (best, at) = apex_paths(&list, &tri, &mut paths);
+        assert_eq!(paths.len(), list.len());
+        for (e, p) in list.iter().zip(&paths) {
+            assert_eq!(*p, e.apex_path(&tri));
+        }
+        assert!((paths[0].2 - 3.0).abs() < 1e-12);
+        assert!((best - 2.5).abs() < 1e-12);
+        assert_eq!(at, 1, "the first of two equal paths");
+        assert!((paths[3].2 - (1.0 + 5f64.sqrt())).abs() < 1e-12);
+        assert_eq!(paths[3].1, 0.5, "its separating point is its end");
+        // An empty list: no path, and the scratch is left empty.
+        let (best, at) = apex_paths(&[], &tri, &mut paths);
+        assert_eq!((best, at), (f64::INFINITY, 0));
+        assert!(paths.is_empty());
+    }
+
+    #[test]
     fn rule1_prunes_only_rays_crossing_the_best_path() {
         // w_s splits at 1.0; w lies left of it with its own split at 0.3.
         let w = win(0.0, 1.5, (0.3, -1.0), 0.0);
