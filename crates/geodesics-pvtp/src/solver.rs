@@ -652,6 +652,11 @@ fn cross(
     let mesh = sh.mesh;
     let n = Mesh::next(h);
     let p = Mesh::prev(h);
+    // The records of the faces beyond the two other edges are read when
+    // the children are appended: ask for them now.
+    for t in [mesh.twin(p), mesh.twin(n)].into_iter().flatten() {
+        geodesics_mesh::prefetch(sh.faces, Mesh::face_of(t) as usize);
+    }
     // Corners: A = i, B = i + 1, C = i + 2.
     let (ia, ib, ic) = (i, (i + 1) % 3, (i + 2) % 3);
     let tri = Triangle::with_lengths(
