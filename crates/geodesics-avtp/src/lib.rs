@@ -84,7 +84,11 @@ pub struct AvtpOptions {
     pub lambda: f64,
     /// The guard band λ_g, in mean edge lengths: wavefront vertices farther
     /// than this beyond the reset radius keep their windows (protects
-    /// anisotropic meshes; the authors use 8).
+    /// anisotropic meshes; the authors use 8). A narrower band resets fewer
+    /// vertices: on the Loop-subdivided bunny at λ = 8, λ_g = 1 halved the
+    /// mean error (5.1e-4 against 1.1e-3) for 19 % more propagations and
+    /// about 11 % more time, a little better than raising λ to buy the
+    /// same accuracy; λ_g from 2 to 8 changed neither much.
     pub lambda_g: f64,
     /// Stop the wavefront beyond this distance (farther vertices are ∞).
     pub max_distance: Option<f64>,
