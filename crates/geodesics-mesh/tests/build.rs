@@ -485,3 +485,22 @@ fn reordered_mesh_translates_every_number() {
         assert_eq!(folded, expected);
     }
 }
+
+#[test]
+fn prefetch_hints_accept_any_vertex_or_face_number() {
+    // Hints only: every vertex and face, and numbers past the end (a
+    // solver may ask for an entry it computed from a sentinel), must be
+    // accepted without a panic and change nothing.
+    let mesh = grid_mesh();
+    let before = mesh.fan(0).to_vec();
+    let (nv, nf) = (mesh.vertex_count() as u32, mesh.face_count() as u32);
+    for v in (0..nv).chain([nv, nv + 1, u32::MAX]) {
+        mesh.prefetch_fan_table(v);
+        mesh.prefetch_fan(v);
+        mesh.prefetch_vertex(v);
+    }
+    for f in (0..nf).chain([nf, u32::MAX / 3]) {
+        mesh.prefetch_face(f);
+    }
+    assert_eq!(mesh.fan(0), before.as_slice());
+}
