@@ -299,7 +299,8 @@ impl Mesh {
     pub fn prefetch_fan_table(&self, v: u32) {
         let v = v as usize;
         if let (Some(&start), Some(&end)) = (self.fan_start.get(v), self.fan_start.get(v + 1)) {
-            // A fan spans at most a few entries: its first and last lines.
+            // A usual fan's entries lie on one or two cache lines (16
+            // entries each): ask for the first and the last.
             prefetch(&self.fan, start as usize);
             prefetch(&self.fan, (end as usize).saturating_sub(1));
         }

@@ -307,8 +307,8 @@ impl<'a> Solver<'a> {
         if x.dist == f64::INFINITY {
             // First reached: its fan table loads now, long before the pop
             // loop asks for the faces of the upcoming vertices, which then
-            // does not wait on it (AVTP at λ = 8 on the Loop×2 bunny 3–4 %
-            // faster, VTP on armadillo.obj and Loop×1 about 1 %).
+            // does not wait on it (AVTP at λ = 8 on the Loop×2 bunny 1–4 %
+            // faster, VTP on armadillo.obj 1.5–2 % and on Loop×1 about 1 %).
             self.mesh.prefetch_fan_table(v);
             if let Some(reset) = &mut self.reset
                 && !x.inside
