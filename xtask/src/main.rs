@@ -416,7 +416,6 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     let to_reference = (!pairs.is_empty()).then(|| GDIST_REFERENCE_S / gdist_best);
     for case in timed {
         let ((s, st), (s_kept, st_kept)) = (case.best, case.best_kept);
-        let ns_per = |s: f64, st: &Stats| 1e9 * s / st.window_propagations.max(1) as f64;
         let ns_per_propagation = ns_per(s, &st);
         let (at, ap) = case
             .authors
@@ -463,6 +462,11 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     }
     memory(&mut report, &dir)?;
     report.finish()
+}
+
+/// Nanoseconds per window propagation of a solve of `seconds`.
+fn ns_per(seconds: f64, stats: &Stats) -> f64 {
+    1e9 * seconds / stats.window_propagations.max(1) as f64
 }
 
 /// gdist's solve time on bunny.off from vertex 0 on the machine where the
