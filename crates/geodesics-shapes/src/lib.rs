@@ -17,7 +17,10 @@
 //!
 //! and two subdivision schemes that keep the old vertex numbering and append
 //! one vertex per edge: [`loop_subdivide`] (smooth) and
-//! [`midpoint_subdivide`] (keeps the surface exactly). [`Shape`] parses
+//! [`midpoint_subdivide`] (keeps the surface exactly), and [`simplify`]
+//! for the other way, quadric-error edge collapses down to a face budget
+//! (how the benchmarks make a coarse bunny like the one Du et al. subdivide
+//! for their large test meshes). [`Shape`] parses
 //! specs such as `"torus:120x40"` for the command line, and [`from_spec`]
 //! parses and builds in one call. Randomness comes from the built-in
 //! [`SplitMix64`].
@@ -51,6 +54,7 @@
 
 mod grid;
 mod rng;
+mod simplify;
 mod spec;
 mod sphere;
 mod subdivide;
@@ -60,6 +64,7 @@ mod torus;
 pub use geodesics_mesh::IndexedTriangles;
 pub use grid::{MAX_GRID_JITTER, flat_grid, jittered_flat_grid};
 pub use rng::SplitMix64;
+pub use simplify::simplify;
 pub use spec::{MAX_SHAPE_VERTICES, SHAPE_KINDS, Shape, from_spec};
 pub use sphere::{
     MAX_SPHERE_JITTER, MAX_SPHERE_SUBDIVISIONS, bumpy_sphere, icosphere, jittered_icosphere,
