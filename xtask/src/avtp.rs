@@ -6,7 +6,7 @@ use geodesics::{Algorithm, AvtpOptions};
 use serde_json::{Value, json};
 
 use crate::report::{Cell, Column, JsonFile, Report, number};
-use crate::{Interleaved, build_renumbered, data_dir, read};
+use crate::{Interleaved, build_renumbered, coarse_bunny, data_dir, read};
 
 /// λ values of the table.
 const LAMBDAS: [f64; 7] = [2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0];
@@ -42,11 +42,13 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             geodesics_shapes::loop_subdivide(&bunny, 1)?,
         ),
     ];
+    cases.push(coarse_bunny(&bunny, 3)?);
     if large {
         cases.push((
             "bunny.off, Loop x2".to_string(),
             geodesics_shapes::loop_subdivide(&bunny, 2)?,
         ));
+        cases.push(coarse_bunny(&bunny, 4)?);
     }
     report.table(
         Some(format!(

@@ -3,18 +3,21 @@
 //!
 //! - `cargo xtask bench [--runs N] [--large]`: the VTP table of the exact-VTP
 //!   issue (solve time, ns per window propagation, propagations, peak window
-//!   memory) on `bunny.off`, `armadillo.obj` and a Loop-subdivided bunny,
-//!   with gdist (an independent MMP) timed in the same run when its
-//!   environment exists, and the authors' published figures beside ours;
-//!   then the peak resident memory of a whole `geodesics distance` process
-//!   on `bunny.off` and `armadillo.obj` (a separate process each), against
-//!   the authors' VTP process. `--large` adds a second Loop step (1.1 M
-//!   faces).
+//!   memory) on `bunny.off`, `armadillo.obj`, `bunny.off` after one Loop
+//!   step, and the coarse bunny after three (235K faces: `bunny.off`
+//!   simplified to the 3,674 faces of the low-resolution bunny the authors
+//!   subdivide, so their figures for it compare), with gdist (an
+//!   independent MMP) timed in the same run when its environment exists,
+//!   and the authors' published figures beside ours; then the peak resident
+//!   memory of a whole `geodesics distance` process on `bunny.off` and
+//!   `armadillo.obj` (a separate process each), against the authors' VTP
+//!   process. `--large` adds a second Loop step of `bunny.off` (1.1 M
+//!   faces) and a fourth of the coarse bunny (940K faces).
 //! - `cargo xtask avtp [--runs N] [--large]`: AVTP's accuracy/speed table,
 //!   λ from 2 to 128 against exact VTP in the same run, on the same meshes.
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
-//!   Loop-subdivided bunny and the welded dragon, with the time each solve
+//!   Loop-subdivided bunnies and the welded dragon, with the time each solve
 //!   spends outside its parallel phases (what bounds the speed-up).
 //! - `cargo xtask tables [--runs N] [--algorithms a,b,..]`: every algorithm
 //!   (or those named) on `bunny.off` and `armadillo.obj` (Tables 1 and 3 of
@@ -285,6 +288,27 @@ fn gdist_seconds(mesh: &Path) -> Option<f64> {
     })
 }
 
+/// Faces of the low-resolution Stanford bunny (1,839 vertices) that Du et
+/// al. subdivide 3 and 4 times for their 235,136- and 940,544-face test
+/// meshes (peer-figures.md). Their mesh is not public; ours is `bunny.off`
+/// simplified to as many faces (the same vertex count comes out).
+const AUTHORS_COARSE_BUNNY_FACES: usize = 3_674;
+
+/// The coarse bunny (see [`AUTHORS_COARSE_BUNNY_FACES`]) after `steps` Loop
+/// steps, with its table label: the same kind of mesh as the authors'
+/// large ones, so their figures compare with ours (subdivisions of the
+/// fine scan have many more saddles, which change what a window costs).
+pub(crate) fn coarse_bunny(
+    bunny: &geodesics::IndexedTriangles,
+    steps: u32,
+) -> Result<(String, geodesics::IndexedTriangles)> {
+    let coarse = geodesics_shapes::simplify(bunny, AUTHORS_COARSE_BUNNY_FACES)?;
+    Ok((
+        format!("coarse bunny, Loop x{steps}"),
+        geodesics_shapes::loop_subdivide(&coarse, steps)?,
+    ))
+}
+
 /// A mesh of the speed table: name, triangles, and the authors' VTP seconds
 /// and propagations from `peer-figures.md` where published.
 struct BenchCase {
@@ -323,9 +347,13 @@ fn bench(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             None,
         ),
     ];
+    let (name, soup) = coarse_bunny(&bunny, 3)?;
+    cases.push(BenchCase::new(&name, soup, Some((1.67, 16_100_000))));
     if large {
         let soup = geodesics_shapes::loop_subdivide(&bunny, 2)?;
         cases.push(BenchCase::new("bunny.off, Loop x2", soup, None));
+        let (name, soup) = coarse_bunny(&bunny, 4)?;
+        cases.push(BenchCase::new(&name, soup, Some((28.3, 129_600_000))));
     }
     report.table(
         Some(format!(

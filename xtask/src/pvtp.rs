@@ -7,7 +7,7 @@ use geodesics::{Algorithm, PvtpOptions};
 use serde_json::json;
 
 use crate::report::{Cell, Column, JsonFile, Report, number};
-use crate::{Interleaved, build_renumbered, data_dir, read};
+use crate::{Interleaved, build_renumbered, coarse_bunny, data_dir, read};
 
 /// The scaling table, one row for VTP and one per thread count, per mesh.
 pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
@@ -24,11 +24,15 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             build_renumbered(read(&dir.join("dragon.ply"))?, true)?,
         ),
     ];
+    let (name, soup) = coarse_bunny(&bunny, 3)?;
+    cases.push((name, build_renumbered(soup, false)?));
     if large {
         cases.push((
             "bunny.off, Loop x2".to_string(),
             build_renumbered(geodesics_shapes::loop_subdivide(&bunny, 2)?, false)?,
         ));
+        let (name, soup) = coarse_bunny(&bunny, 4)?;
+        cases.push((name, build_renumbered(soup, false)?));
     }
     let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
     let mut threads: Vec<usize> = vec![1, 2];
