@@ -1,13 +1,16 @@
 //! `cargo xtask pvtp`: how PVTP scales with threads against sequential VTP
 //! measured in the same run (the scaling table of the PVTP issue), on
-//! meshes of at least 200K faces.
+//! meshes of at least 200K faces, and what the machine allows: T
+//! independent VTP solves at once, a workload with no sequential part.
+
+use std::time::Instant;
 
 use anyhow::Result;
-use geodesics::{Algorithm, PvtpOptions};
+use geodesics::{Algorithm, Mesh, PvtpOptions, Source};
 use serde_json::json;
 
 use crate::report::{Cell, Column, JsonFile, Report, number};
-use crate::{Interleaved, build_renumbered, coarse_bunny, data_dir, read};
+use crate::{Interleaved, Spread, build_renumbered, coarse_bunny, data_dir, read};
 
 /// The scaling table, one row for VTP and one per thread count, per mesh.
 pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
@@ -110,9 +113,50 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 ),
             ]);
         }
+        for &t in threads.iter().filter(|&&t| t > 1) {
+            let (best, throughput) = solves_at_once(&mesh, t, runs)?;
+            report.row(vec![
+                Cell::text(&name),
+                Cell::shown(mesh.face_count()),
+                Cell::text("VTP, T solves at once"),
+                Cell::shown(t),
+                Cell::fixed(best, 3),
+                Cell::missing(),
+                Cell::spread(throughput),
+                Cell::missing(),
+                Cell::missing(),
+                Cell::missing(),
+            ]);
+        }
     }
     report.note(
-        "\nSpeed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run.",
+        "\nSpeed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
     );
     report.finish()
+}
+
+/// Times `threads` independent VTP solves from vertex 0 run at once (one
+/// per thread) against one run alone, `runs` rounds: the wall time of the
+/// fastest round at once, and the throughput of running them together
+/// (`threads × alone ÷ together`, median and range over the rounds).
+fn solves_at_once(mesh: &Mesh, threads: usize, runs: usize) -> Result<(f64, Spread)> {
+    let solve = || geodesics::compute(mesh, &[Source::Vertex(0)], &Algorithm::default());
+    let mut best = f64::INFINITY;
+    let mut ratios = Vec::with_capacity(runs);
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        solve()?;
+        let alone = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        std::thread::scope(|scope| {
+            let solves: Vec<_> = (0..threads).map(|_| scope.spawn(solve)).collect();
+            solves
+                .into_iter()
+                .try_for_each(|s| s.join().expect("a VTP solve panicked").map(drop))
+        })?;
+        let together = t.elapsed().as_secs_f64();
+        best = best.min(together);
+        ratios.push(threads as f64 * alone / together);
+    }
+    Ok((best, Spread::of(ratios)))
 }
