@@ -175,11 +175,23 @@ pub(crate) struct Interleaved {
 impl Interleaved {
     /// Times `algorithms` on `mesh` from vertex 0 over `runs` rounds.
     pub fn run(mesh: &Mesh, algorithms: &[Algorithm], runs: usize) -> Result<Interleaved> {
+        Interleaved::run_with(mesh, algorithms, runs, || {})
+    }
+
+    /// [`Interleaved::run`], calling `before_round` before each round
+    /// (untimed: to sample the machine's state along the runs).
+    pub fn run_with(
+        mesh: &Mesh,
+        algorithms: &[Algorithm],
+        runs: usize,
+        mut before_round: impl FnMut(),
+    ) -> Result<Interleaved> {
         let n = algorithms.len();
         let rounds = runs.max(1);
         let mut seconds = vec![Vec::with_capacity(rounds); n];
         let mut fastest: Vec<Option<(f64, geodesics::DistanceField, Stats)>> = vec![None; n];
         for round in 0..rounds {
+            before_round();
             for k in 0..n {
                 let i = (k + round) % n;
                 let t = Instant::now();
