@@ -98,6 +98,15 @@ pub enum ShapeError {
         /// Number of vertices.
         vertices: usize,
     },
+    /// A vertex has a NaN or infinite coordinate (subdivision and
+    /// simplification would spread it to the vertices around it).
+    #[error("vertex {vertex} has a non-finite coordinate: ({}, {}, {})", position[0], position[1], position[2])]
+    NonFiniteCoordinate {
+        /// The vertex.
+        vertex: usize,
+        /// Its coordinates.
+        position: [f64; 3],
+    },
     /// A triangle uses the same vertex twice.
     #[error("face {face} repeats a vertex: [{}, {}, {}]", corners[0], corners[1], corners[2])]
     RepeatedVertex {

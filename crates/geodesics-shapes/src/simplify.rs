@@ -10,6 +10,7 @@ use std::collections::BinaryHeap;
 
 use glam::DVec3;
 
+use crate::subdivide::check_finite;
 use crate::topology::{EdgeTopology, NONE};
 use crate::{IndexedTriangles, ShapeError};
 
@@ -363,12 +364,14 @@ impl Collapser {
 ///
 /// # Errors
 ///
-/// As for [`crate::loop_subdivide`]: an index out of range, a face
-/// repeating a vertex, an edge shared by more than two faces.
+/// As for [`crate::loop_subdivide`]: a NaN or infinite coordinate, an
+/// index out of range, a face repeating a vertex, an edge shared by more
+/// than two faces.
 pub fn simplify(
     mesh: &IndexedTriangles,
     target_faces: usize,
 ) -> Result<IndexedTriangles, ShapeError> {
+    check_finite(mesh)?;
     let topology = EdgeTopology::new(mesh.positions.len(), &mesh.triangles)?;
     let mut collapser = Collapser::new(mesh, &topology);
     collapser.run(target_faces);
@@ -448,6 +451,12 @@ mod tests {
         assert!(matches!(
             simplify(&sphere, 10),
             Err(ShapeError::IndexOutOfRange { index: 999, .. })
+        ));
+        let mut sphere = icosphere(1, 1.0);
+        sphere.positions[5].y = f64::NAN;
+        assert!(matches!(
+            simplify(&sphere, 10),
+            Err(ShapeError::NonFiniteCoordinate { vertex: 5, .. })
         ));
     }
 }

@@ -31,6 +31,7 @@ use crate::topology::{EdgeTopology, NONE, opposite};
 ///
 /// # Errors
 ///
+/// [`ShapeError::NonFiniteCoordinate`] for a NaN or infinite coordinate,
 /// [`ShapeError::NonManifoldEdge`] if an edge has more than two faces,
 /// [`ShapeError::IndexOutOfRange`], [`ShapeError::RepeatedVertex`], and
 /// [`ShapeError::TooLarge`] if the result would not fit 32-bit indices. The
@@ -78,6 +79,7 @@ fn subdivide(
     steps: u32,
     step: fn(&IndexedTriangles) -> Result<IndexedTriangles, ShapeError>,
 ) -> Result<IndexedTriangles, ShapeError> {
+    check_finite(mesh)?;
     if steps == 0 {
         EdgeTopology::new(mesh.positions.len(), &mesh.triangles)?;
         return Ok(mesh.clone());
@@ -87,6 +89,18 @@ fn subdivide(
         current = step(&current)?;
     }
     Ok(current)
+}
+
+/// Refuses a mesh with a NaN or infinite coordinate (the first such
+/// vertex).
+pub(crate) fn check_finite(mesh: &IndexedTriangles) -> Result<(), ShapeError> {
+    match mesh.positions.iter().position(|p| !p.is_finite()) {
+        Some(vertex) => Err(ShapeError::NonFiniteCoordinate {
+            vertex,
+            position: mesh.positions[vertex].to_array(),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// One midpoint split (also used by the icosphere, which then projects).

@@ -285,6 +285,23 @@ fn malformed_input_is_an_error() {
             })
         );
     }
+    // A NaN or infinite coordinate would spread to the new vertices around
+    // it; it is refused, even with no step to take.
+    let mut m = tetrahedron();
+    m.positions[3].z = f64::INFINITY;
+    for (_, subdivide) in SCHEMES {
+        for steps in [0, 1] {
+            let err = subdivide(&m, steps).unwrap_err();
+            assert!(
+                matches!(err, ShapeError::NonFiniteCoordinate { vertex: 3, .. }),
+                "{err:?}"
+            );
+            assert!(
+                err.to_string()
+                    .starts_with("vertex 3 has a non-finite coordinate")
+            );
+        }
+    }
     // Empty input subdivides to empty output.
     let empty = IndexedTriangles::default();
     assert_eq!(loop_subdivide(&empty, 3), Ok(empty));
