@@ -18,7 +18,10 @@
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
 //!   Loop-subdivided bunnies and the welded dragon, with the time each solve
-//!   spends outside its parallel phases (what bounds the speed-up).
+//!   spends outside its parallel phases (what bounds the speed-up), T
+//!   independent VTP solves at once (what the machine allows T threads)
+//!   and the cross-core round trip sampled before each round (on shared
+//!   VMs it varies tenfold, and PVTP's gain with it).
 //! - `cargo xtask tables [--runs N] [--algorithms a,b,..]`: every algorithm
 //!   (or those named) on `bunny.off` and `armadillo.obj` (Tables 1 and 3 of
 //!   the VTP paper): time, propagations and peak window memory, with ratios
