@@ -228,11 +228,19 @@ impl Interleaved {
     /// How much faster `i` ran than `base`, round by round: the median and
     /// the range over the rounds.
     pub fn speed_up(&self, base: usize, i: usize) -> Spread {
+        self.speed_up_in(base, i, |_| true)
+    }
+
+    /// [`Interleaved::speed_up`] over the rounds `keep` accepts (by
+    /// number).
+    pub fn speed_up_in(&self, base: usize, i: usize, keep: impl Fn(usize) -> bool) -> Spread {
         Spread::of(
             self.seconds[base]
                 .iter()
                 .zip(&self.seconds[i])
-                .map(|(b, s)| b / s)
+                .enumerate()
+                .filter(|&(round, _)| keep(round))
+                .map(|(_, (b, s))| b / s)
                 .collect(),
         )
     }
