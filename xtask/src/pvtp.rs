@@ -3,7 +3,7 @@
 //! meshes of at least 200K faces, and what the machine allows: T
 //! independent VTP solves at once, a workload with no sequential part.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use anyhow::Result;
@@ -216,34 +216,46 @@ fn solves_at_once(mesh: &Mesh, threads: usize, runs: usize) -> Result<(f64, Spre
 }
 
 /// The time for two threads to pass one cache line there and back (the
-/// best of three runs of 100,000 round trips), in nanoseconds; `None` with
-/// one CPU, where the two would only take turns.
+/// best of three runs of up to 100,000 round trips, each cut short after
+/// a second, as on a busy machine a trip can wait for a time slice), in
+/// nanoseconds; `None` with one CPU, where the two would only take turns.
 fn cross_core_round_trip_ns(cores: usize) -> Option<f64> {
     const TRIPS: u64 = 100_000;
+    const LIMIT_S: f64 = 1.0;
     if cores < 2 {
         return None;
     }
     let best = (0..3)
         .map(|_| {
             let line = AtomicU64::new(0);
+            let stop = AtomicBool::new(false);
             let start = Instant::now();
+            let mut trips = TRIPS;
             std::thread::scope(|scope| {
                 scope.spawn(|| {
                     for i in 0..TRIPS {
                         while line.load(Ordering::Acquire) != 2 * i + 1 {
+                            if stop.load(Ordering::Relaxed) {
+                                return;
+                            }
                             std::hint::spin_loop();
                         }
                         line.store(2 * i + 2, Ordering::Release);
                     }
                 });
                 for i in 0..TRIPS {
+                    if i % 64 == 0 && start.elapsed().as_secs_f64() > LIMIT_S {
+                        trips = i;
+                        stop.store(true, Ordering::Relaxed);
+                        break;
+                    }
                     line.store(2 * i + 1, Ordering::Release);
                     while line.load(Ordering::Acquire) != 2 * i + 2 {
                         std::hint::spin_loop();
                     }
                 }
             });
-            start.elapsed().as_nanos() as f64 / TRIPS as f64
+            start.elapsed().as_nanos() as f64 / trips.max(1) as f64
         })
         .fold(f64::INFINITY, f64::min);
     Some(best)
