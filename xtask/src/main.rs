@@ -54,6 +54,7 @@ use std::process::Command;
 use std::time::Instant;
 
 mod avtp;
+mod cores;
 mod count;
 mod pvtp;
 mod report;

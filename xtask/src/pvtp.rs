@@ -3,13 +3,13 @@
 //! meshes of at least 200K faces, and what the machine allows: T
 //! independent VTP solves at once, a workload with no sequential part.
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use anyhow::Result;
 use geodesics::{Algorithm, Mesh, PvtpOptions, Source};
 use serde_json::json;
 
+use crate::cores::RoundTrips;
 use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, Spread, build_renumbered, coarse_bunny, data_dir, read};
 
@@ -76,31 +76,10 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 ..PvtpOptions::default()
             })
         }));
-        let mut round_trips = Vec::new();
-        let timed = Interleaved::run_with(&mesh, &algorithms, runs, || {
-            round_trips.extend(cross_core_round_trip_ns(cores));
-        })?;
-        round_trips.extend(cross_core_round_trip_ns(cores));
-        let round_trip = if round_trips.is_empty() {
-            Cell::missing()
-        } else {
-            let lo = round_trips.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = round_trips.iter().copied().fold(0.0, f64::max);
-            Cell::new(
-                format!("{lo:.0}–{hi:.0}"),
-                json!({"per_round": round_trips.iter().map(|&x| number(x)).collect::<Vec<_>>()}),
-            )
-        };
-        // Rounds between two fast round trips (the samples before and
-        // after them): those the cores' slow periods most likely missed.
-        let fast = |round: usize| {
-            [round, round + 1].iter().all(|&k| {
-                round_trips
-                    .get(k)
-                    .is_some_and(|&ns| ns < FAST_ROUND_TRIP_NS)
-            })
-        };
-        let fast_rounds = (0..runs.max(1)).filter(|&r| fast(r)).count();
+        let mut round_trips = RoundTrips::new(cores);
+        let timed = Interleaved::run_with(&mesh, &algorithms, runs, || round_trips.sample())?;
+        round_trips.sample();
+        let round_trip = round_trips.range_cell();
         let vtp = &timed.fastest[0].1;
         report.row(vec![
             Cell::text(&name),
@@ -132,14 +111,8 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 Cell::spread(timed.speed_up(1, i)),
                 if t == 1 {
                     Cell::missing()
-                } else if fast_rounds == 0 {
-                    Cell::new("no fast round", json!(null))
                 } else {
-                    let spread = timed.speed_up_in(1, i, fast);
-                    Cell::new(
-                        format!("{spread} in {fast_rounds} of {}", runs.max(1)),
-                        json!({"median": number(spread.median), "min": number(spread.min), "max": number(spread.max), "rounds": fast_rounds}),
-                    )
+                    round_trips.fast_speed_up(&timed, 1, i)
                 },
                 Cell::spread(timed.speed_up(0, i)),
                 Cell::fixed(
@@ -185,10 +158,6 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     report.finish()
 }
 
-/// A round trip below this is a fast period of the cores (40–66 ns on our
-/// VMs, against 140–800 ns in slow ones).
-const FAST_ROUND_TRIP_NS: f64 = 100.0;
-
 /// Times `threads` independent VTP solves from vertex 0 run at once (one
 /// per thread) against one run alone, `runs` rounds: the wall time of the
 /// fastest round at once, and the throughput of running them together
@@ -213,50 +182,4 @@ fn solves_at_once(mesh: &Mesh, threads: usize, runs: usize) -> Result<(f64, Spre
         ratios.push(threads as f64 * alone / together);
     }
     Ok((best, Spread::of(ratios)))
-}
-
-/// The time for two threads to pass one cache line there and back (the
-/// best of three runs of up to 100,000 round trips, each cut short after
-/// a second, as on a busy machine a trip can wait for a time slice), in
-/// nanoseconds; `None` with one CPU, where the two would only take turns.
-fn cross_core_round_trip_ns(cores: usize) -> Option<f64> {
-    const TRIPS: u64 = 100_000;
-    const LIMIT_S: f64 = 1.0;
-    if cores < 2 {
-        return None;
-    }
-    let best = (0..3)
-        .map(|_| {
-            let line = AtomicU64::new(0);
-            let stop = AtomicBool::new(false);
-            let start = Instant::now();
-            let mut trips = TRIPS;
-            std::thread::scope(|scope| {
-                scope.spawn(|| {
-                    for i in 0..TRIPS {
-                        while line.load(Ordering::Acquire) != 2 * i + 1 {
-                            if stop.load(Ordering::Relaxed) {
-                                return;
-                            }
-                            std::hint::spin_loop();
-                        }
-                        line.store(2 * i + 2, Ordering::Release);
-                    }
-                });
-                for i in 0..TRIPS {
-                    if i % 64 == 0 && start.elapsed().as_secs_f64() > LIMIT_S {
-                        trips = i;
-                        stop.store(true, Ordering::Relaxed);
-                        break;
-                    }
-                    line.store(2 * i + 1, Ordering::Release);
-                    while line.load(Ordering::Acquire) != 2 * i + 2 {
-                        std::hint::spin_loop();
-                    }
-                }
-            });
-            start.elapsed().as_nanos() as f64 / trips.max(1) as f64
-        })
-        .fold(f64::INFINITY, f64::min);
-    Some(best)
 }
