@@ -14,7 +14,9 @@
 //!   process. `--large` adds a second Loop step of `bunny.off` (1.1 M
 //!   faces) and a fourth of the coarse bunny (940K faces).
 //! - `cargo xtask avtp [--runs N] [--large]`: AVTP's accuracy/speed table,
-//!   λ from 2 to 128 against exact VTP in the same run, on the same meshes.
+//!   λ from 2 to 128 against exact VTP in the same run, on the same meshes,
+//!   with PAVTP at T=2 against AVTP (over all rounds, and over those the
+//!   cores' slow periods missed: see `cores.rs`).
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
 //!   Loop-subdivided bunnies and the welded dragon, with the time each solve
