@@ -99,13 +99,18 @@ pub enum ShapeError {
         vertices: usize,
     },
     /// A vertex has a NaN or infinite coordinate (subdivision and
-    /// simplification would spread it to the vertices around it).
-    #[error("vertex {vertex} has a non-finite coordinate: ({}, {}, {})", position[0], position[1], position[2])]
+    /// simplification would spread it to the vertices around it). Worded
+    /// and shaped as `geodesics_mesh::MeshError::NonFiniteCoordinate`.
+    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
     NonFiniteCoordinate {
         /// The vertex.
         vertex: usize,
         /// Its coordinates.
-        position: [f64; 3],
+        x: f64,
+        /// Its coordinates.
+        y: f64,
+        /// Its coordinates.
+        z: f64,
     },
     /// A triangle uses the same vertex twice.
     #[error("face {face} repeats a vertex: [{}, {}, {}]", corners[0], corners[1], corners[2])]

@@ -95,10 +95,15 @@ fn subdivide(
 /// vertex).
 pub(crate) fn check_finite(mesh: &IndexedTriangles) -> Result<(), ShapeError> {
     match mesh.positions.iter().position(|p| !p.is_finite()) {
-        Some(vertex) => Err(ShapeError::NonFiniteCoordinate {
-            vertex,
-            position: mesh.positions[vertex].to_array(),
-        }),
+        Some(vertex) => {
+            let p = mesh.positions[vertex];
+            Err(ShapeError::NonFiniteCoordinate {
+                vertex,
+                x: p.x,
+                y: p.y,
+                z: p.z,
+            })
+        }
         None => Ok(()),
     }
 }
