@@ -5,7 +5,7 @@ use anyhow::Result;
 use geodesics::{Algorithm, AvtpOptions};
 use serde_json::{Value, json};
 
-use crate::cores::RoundTrips;
+use crate::cores::{FAST_ROUND_TRIP_NS, RoundTrips};
 use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, build_renumbered, coarse_bunny, data_dir, read};
 
@@ -53,7 +53,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     }
     report.table(
         Some(format!(
-            "AVTP and PAVTP against exact VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every AVTP and PAVTP once; solve only); speed-ups are the median (range) of the per-round ratios; PAVTP's also over the fast rounds only, those between two cross-core round trips under 100 ns (see `cargo xtask pvtp`: on shared VMs the cores' round trip varies tenfold for minutes at a time, and the parallel solvers' gains with it)"
+            "AVTP and PAVTP against exact VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every AVTP and PAVTP once; solve only); speed-ups are the median (range) of the per-round ratios; PAVTP's also over the fast rounds only, those between two cross-core round trips under {FAST_ROUND_TRIP_NS} ns (see `cargo xtask pvtp`: on shared VMs the cores' round trip varies tenfold for minutes at a time, and the parallel solvers' gains with it)"
         )),
         [
             vec![Column::left("mesh")],
@@ -74,7 +74,6 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
         ]
         .concat(),
     );
-    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
     let mut falls = Vec::new();
     for (name, soup) in cases {
         let mesh = build_renumbered(soup, false)?;
@@ -87,7 +86,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 ..AvtpOptions::with_lambda(lambda)
             }));
         }
-        let mut round_trips = RoundTrips::new(cores);
+        let mut round_trips = RoundTrips::new();
         let timed = Interleaved::run_with(&mesh, &algorithms, runs, || round_trips.sample())?;
         round_trips.sample();
         let (exact, vtp_stats) = &timed.fastest[0];

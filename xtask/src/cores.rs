@@ -12,19 +12,19 @@ use crate::report::{Cell, number};
 
 /// A round trip below this is a fast period of the cores (40–66 ns on our
 /// VMs, against 140–800 ns in slow ones).
-const FAST_ROUND_TRIP_NS: f64 = 100.0;
+pub(crate) const FAST_ROUND_TRIP_NS: f64 = 100.0;
 
 /// Round trips sampled before each round of an [`Interleaved`] run and
-/// once after the last.
+/// once after the last (none on a machine with one CPU).
 pub(crate) struct RoundTrips {
     cores: usize,
     samples: Vec<f64>,
 }
 
 impl RoundTrips {
-    pub fn new(cores: usize) -> RoundTrips {
+    pub fn new() -> RoundTrips {
         RoundTrips {
-            cores,
+            cores: std::thread::available_parallelism().map_or(2, |n| n.get()),
             samples: Vec::new(),
         }
     }
@@ -58,8 +58,11 @@ impl RoundTrips {
     }
 
     /// How much faster `i` ran than `base` over the fast rounds only, and
-    /// in how many of the rounds.
+    /// in how many of the rounds (nothing where no sample was taken).
     pub fn fast_speed_up(&self, timed: &Interleaved, base: usize, i: usize) -> Cell {
+        if self.samples.is_empty() {
+            return Cell::missing();
+        }
         let rounds = timed.seconds[i].len();
         let fast_rounds = (0..rounds).filter(|&r| self.fast(r)).count();
         if fast_rounds == 0 {

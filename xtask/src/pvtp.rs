@@ -9,7 +9,7 @@ use anyhow::Result;
 use geodesics::{Algorithm, Mesh, PvtpOptions, Source};
 use serde_json::json;
 
-use crate::cores::RoundTrips;
+use crate::cores::{FAST_ROUND_TRIP_NS, RoundTrips};
 use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, Spread, build_renumbered, coarse_bunny, data_dir, read};
 
@@ -76,7 +76,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 ..PvtpOptions::default()
             })
         }));
-        let mut round_trips = RoundTrips::new(cores);
+        let mut round_trips = RoundTrips::new();
         let timed = Interleaved::run_with(&mesh, &algorithms, runs, || round_trips.sample())?;
         round_trips.sample();
         let round_trip = round_trips.range_cell();
@@ -150,7 +150,9 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
         }
     }
     report.note(
-        "\nCross-core round trip: two threads passing one cache line back and forth (best of 3 runs of 100,000), measured before each round of a mesh and after the last (their range). On our 2-vCPU VMs it is 40-66 ns most of the time but 140-800 ns for periods of seconds to tens of minutes, and then PVTP at T=2 gains far less (its jobs read what the other thread wrote: 38-46 ns per propagation instead of 28-33), while independent solves are not affected: compare rows taken at like round trips. The fast rounds are those whose samples before and after were both under 100 ns.",
+        &format!(
+            "\nCross-core round trip: two threads passing one cache line back and forth (best of 3 runs of 100,000), measured before each round of a mesh and after the last (their range). On our 2-vCPU VMs it is 40-66 ns most of the time but 140-800 ns for periods of seconds to tens of minutes, and then PVTP at T=2 gains far less (its jobs read what the other thread wrote: 38-46 ns per propagation instead of 28-33), while independent solves are not affected: compare rows taken at like round trips. The fast rounds are those whose samples before and after were both under {FAST_ROUND_TRIP_NS} ns."
+        ),
     );
     report.note(
         "Speed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
