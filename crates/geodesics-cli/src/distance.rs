@@ -311,11 +311,20 @@ fn summary(r: &StatsReport, output: &Option<PathBuf>) -> String {
         "reached {} of {} vertices; largest distance {:.6}\n",
         r.reached_vertices, r.vertices, r.max_distance
     );
+    // No time per propagation when there was none: dividing by one
+    // printed the whole solve's time as if it were one propagation's.
+    let each = if r.window_propagations == 0 {
+        String::new()
+    } else {
+        format!(
+            " ({:.1} ns each)",
+            1e9 * r.time_seconds / r.window_propagations as f64
+        )
+    };
     s += &format!(
-        "solve {:.3} s: {} window propagations ({:.1} ns each), {} windows created, peak {} live windows ({:.1} KiB)\n",
+        "solve {:.3} s: {} window propagations{each}, {} windows created, peak {} live windows ({:.1} KiB)\n",
         r.time_seconds,
         r.window_propagations,
-        1e9 * r.time_seconds / (r.window_propagations.max(1) as f64),
         r.windows_created,
         r.peak_windows,
         r.peak_window_bytes as f64 / 1024.0

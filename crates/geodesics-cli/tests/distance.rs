@@ -360,3 +360,20 @@ fn keep_order_changes_nothing_the_user_sees() {
     assert_eq!(kept_ply.positions, soup.positions);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn a_solve_without_propagations_prints_no_time_per_propagation() {
+    // Two triangles sharing the edge 0–1, source 0: the distances come
+    // along the edges and no window is propagated.
+    let dir = scratch("no-propagation");
+    let mesh = dir.join("two.off");
+    std::fs::write(
+        &mesh,
+        "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 -1 0\n3 0 1 2\n3 1 0 3\n",
+    )
+    .unwrap();
+    let out = dir.join("d.txt");
+    let stdout = ok(&geodesics(&["distance", s(&mesh), "-o", s(&out)]));
+    assert!(stdout.contains(" 0 window propagations, "), "{stdout}");
+    assert!(!stdout.contains("ns each"), "{stdout}");
+}
