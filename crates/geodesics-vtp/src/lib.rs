@@ -99,7 +99,6 @@
 
 mod error;
 mod path;
-mod queue;
 mod solver;
 
 pub use error::VtpError;

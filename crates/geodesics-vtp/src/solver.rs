@@ -12,12 +12,11 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, ResetFront, Shadow, SolverSetup, Source, Stats,
-    Tolerance, Triangle, VertexState, corner_neighbours, pseudo_source_window, seeds,
+    Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours, pseudo_source_window, seeds,
     validate_sources,
 };
 use glam::DVec2;
 
-use crate::queue::VertexQueue;
 use crate::{Merge, PairRule, Provenance, Rule1, Schedule, VtpError, VtpOptions};
 
 const NONE: u32 = u32::MAX;
@@ -54,7 +53,7 @@ fn list_word(faces: &mut [FaceLists], h: u32) -> &mut u32 {
 
 /// How many queued vertices have their records loaded ahead: the top of
 /// the queue and its children, one of which is popped next.
-const UPCOMING: usize = crate::queue::ARITY + 1;
+const UPCOMING: usize = geodesics_window::ARITY + 1;
 
 /// One window list in this many has its phases timed; the phase times are
 /// scaled up accordingly (an estimate, unbiased over many lists). A clock

@@ -56,6 +56,7 @@
 mod path;
 mod progress;
 pub mod prune;
+mod queue;
 mod reset;
 mod setup;
 mod shadow;
@@ -66,6 +67,7 @@ mod window;
 
 pub use path::{GeodesicPath, SurfacePoint};
 pub use progress::Progress;
+pub use queue::{ARITY, VertexQueue};
 pub use reset::ResetFront;
 pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState};
 pub use shadow::{ALL_RAYS, Arrival, Shadow, corner_neighbours, pseudo_source_window};

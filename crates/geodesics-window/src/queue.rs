@@ -1,4 +1,5 @@
-//! The vertex queue: a 4-ary min-heap of `(distance bits, vertex)` that
+//! The vertex queue of the sequential solvers (VTP's, and each region's
+//! in PVTP's region schedule): a 4-ary min-heap of `(distance bits, vertex)` that
 //! holds each vertex at most once, lowering its key in place.
 //!
 //! Four children per node, not two: half as many levels to sift through
@@ -15,19 +16,21 @@
 
 const ABSENT: u32 = u32::MAX;
 
-/// Children per heap node.
-pub(crate) const ARITY: usize = 4;
+/// Children per heap node (a pop sifts through `log4` levels).
+pub const ARITY: usize = 4;
 
-/// See the module docs.
+/// A min-queue of vertices keyed by `(distance bits, vertex)`, each vertex
+/// at most once (see the module docs).
 #[derive(Debug, Default)]
-pub(crate) struct VertexQueue {
+pub struct VertexQueue {
     heap: Vec<(u64, u32)>,
     /// Per vertex: its index in `heap`, `ABSENT` if not queued.
     at: Vec<u32>,
 }
 
 impl VertexQueue {
-    pub(crate) fn new(vertices: usize) -> VertexQueue {
+    /// An empty queue for vertices `0..vertices`.
+    pub fn new(vertices: usize) -> VertexQueue {
         VertexQueue {
             heap: Vec::new(),
             at: vec![ABSENT; vertices],
@@ -37,7 +40,7 @@ impl VertexQueue {
     /// Queues `v` with `key`, or lowers its key to `key` if it is queued
     /// with a larger one.
     #[inline]
-    pub(crate) fn push_or_lower(&mut self, key: u64, v: u32) {
+    pub fn push_or_lower(&mut self, key: u64, v: u32) {
         let i = match self.at[v as usize] {
             ABSENT => {
                 self.heap.push((key, v));
@@ -57,7 +60,7 @@ impl VertexQueue {
 
     /// Removes and returns the smallest entry.
     #[inline]
-    pub(crate) fn pop(&mut self) -> Option<(u64, u32)> {
+    pub fn pop(&mut self) -> Option<(u64, u32)> {
         let last = self.heap.pop()?;
         let top = if self.heap.is_empty() {
             last
@@ -72,7 +75,7 @@ impl VertexQueue {
 
     /// The smallest entry.
     #[inline]
-    pub(crate) fn peek(&self) -> Option<(u64, u32)> {
+    pub fn peek(&self) -> Option<(u64, u32)> {
         self.heap.first().copied()
     }
 
@@ -80,11 +83,12 @@ impl VertexQueue {
     /// one of which is popped next): the vertices popped soon, worth
     /// loading ahead of time.
     #[inline]
-    pub(crate) fn upcoming(&self, n: usize) -> impl Iterator<Item = u32> + '_ {
+    pub fn upcoming(&self, n: usize) -> impl Iterator<Item = u32> + '_ {
         self.heap.iter().take(n).map(|&(_, v)| v)
     }
 
-    pub(crate) fn clear(&mut self) {
+    /// Empties the queue.
+    pub fn clear(&mut self) {
         for &(_, v) in &self.heap {
             self.at[v as usize] = ABSENT;
         }
