@@ -205,8 +205,10 @@ fn pavtp_huge_lambda_is_exact_pvtp_bit_for_bit() {
         let e = exact(&mesh, &sources);
         let lambda = 2.0 * scale(&e) / mean_edge(&mesh) + 1.0;
         for threads in PARALLEL {
+            // PAVTP runs on PVTP's region schedule.
             let options = geodesics_pvtp::PvtpOptions {
                 threads: threads.unwrap(),
+                schedule: geodesics_pvtp::Schedule::Regions,
                 ..Default::default()
             };
             let pvtp = geodesics_pvtp::solve(&mesh, &sources, &options)

@@ -17,6 +17,9 @@
 //!
 //! Everywhere, PVTP must also agree with our VTP within the same bar.
 //!
+//! Both schedules (`Schedule::Rounds`, `Schedule::Regions`) are checked;
+//! the region schedule must give the same bits for every thread count.
+//!
 //! Run time: T = 1 and 2 run every file of every mesh; T = 8 runs the
 //! vertex-0 file of each mesh; the dragon (871k faces) runs vertex 0 only,
 //! per variant, at T = 2 only, once. What is skipped is printed.
@@ -25,16 +28,17 @@ use geodesics_window::SourceError;
 use std::time::Instant;
 
 use geodesics_mesh::{BuildOptions, Mesh};
-use geodesics_pvtp::{PvtpError, PvtpOptions};
+use geodesics_pvtp::{PvtpError, PvtpOptions, Schedule};
 use geodesics_tests::{ReferenceFile, data_dir, load_mesh, reference_mesh};
 use geodesics_vtp::VtpOptions;
 use geodesics_window::{DistanceField, Source};
 
 const REL: f64 = 1e-12;
 
-fn pvtp(mesh: &Mesh, sources: &[Source], threads: usize) -> DistanceField {
+fn pvtp(mesh: &Mesh, sources: &[Source], threads: usize, schedule: Schedule) -> DistanceField {
     let options = PvtpOptions {
         threads,
+        schedule,
         ..PvtpOptions::default()
     };
     geodesics_pvtp::solve(mesh, sources, &options)
@@ -107,7 +111,7 @@ const DRAGON: Plan = Plan {
     determinism: false,
 };
 
-fn check(key: &str, synthetic: bool, plan: Plan) {
+fn check(key: &str, synthetic: bool, plan: Plan, schedule: Schedule) {
     let Some(case) = reference_mesh(&format!("pvtp_reference {key}"), key, synthetic) else {
         return;
     };
@@ -140,16 +144,32 @@ fn check(key: &str, synthetic: bool, plan: Plan) {
             .chain(if k == 0 { plan.first_file } else { &[] })
             .copied()
             .collect();
+        // The region schedule: the first thread count's field, which every
+        // other must repeat bit for bit.
+        let mut first: Option<(usize, DistanceField)> = None;
         for &t in &threads {
             let start = Instant::now();
-            let field = pvtp(mesh, sources, t);
+            let field = pvtp(mesh, sources, t, schedule);
             let seconds = start.elapsed().as_secs_f64();
             let ours = &field.distance;
             assert_eq!(ours.len(), reference.len(), "{name}: vertex count");
             let mut bad = Vec::new();
-            // T = 1 runs on the calling thread alone: nothing to race.
-            if plan.determinism && t > 1 && !identical(&field, &pvtp(mesh, sources, t)) {
-                bad.push(format!("T={t}: two runs differ"));
+            match (schedule, &first) {
+                (Schedule::Regions, Some((t0, f0))) => {
+                    if !identical(&field, f0) {
+                        bad.push(format!("T={t}: differs from T={t0}"));
+                    }
+                }
+                // T = 1 runs on the calling thread alone: nothing to race.
+                (Schedule::Rounds, _) => {
+                    if plan.determinism
+                        && t > 1
+                        && !identical(&field, &pvtp(mesh, sources, t, schedule))
+                    {
+                        bad.push(format!("T={t}: two runs differ"));
+                    }
+                }
+                (Schedule::Regions, None) => {}
             }
             // Against our VTP: everywhere.
             let (vtp_err, vtp_inf) = compare(ours, &ours_vtp.distance);
@@ -190,7 +210,7 @@ fn check(key: &str, synthetic: bool, plan: Plan) {
                 }
             }
             eprintln!(
-                "pvtp_reference {name} T={t}: max |err| / max = {:.2e} vs gdist{}, {:.2e} vs VTP, {shorter_like_vtp} shorter than gdist as VTP, {} failures, solve {seconds:.3}s",
+                "pvtp_reference {name} {schedule:?} T={t}: max |err| / max = {:.2e} vs gdist{}, {:.2e} vs VTP, {shorter_like_vtp} shorter than gdist as VTP, {} failures, solve {seconds:.3}s",
                 worst / max_finite,
                 if plan.against_reference {
                     ""
@@ -202,7 +222,10 @@ fn check(key: &str, synthetic: bool, plan: Plan) {
             );
             if !bad.is_empty() {
                 bad.truncate(10);
-                failures.push(format!("{name}: {}", bad.join("; ")));
+                failures.push(format!("{name} {schedule:?}: {}", bad.join("; ")));
+            }
+            if schedule == Schedule::Regions && first.is_none() {
+                first = Some((t, field));
             }
         }
         if !plan.determinism {
@@ -222,7 +245,8 @@ macro_rules! mesh_tests {
     ($($name:ident => $key:expr),* $(,)?) => {$(
         #[test]
         fn $name() {
-            check($key, false, FULL);
+            check($key, false, FULL, Schedule::Rounds);
+            check($key, false, FULL, Schedule::Regions);
         }
     )*};
 }
@@ -245,27 +269,32 @@ mesh_tests! {
 
 #[test]
 fn synthetic_grid() {
-    check("grid101.off", true, FULL);
+    check("grid101.off", true, FULL, Schedule::Rounds);
+    check("grid101.off", true, FULL, Schedule::Regions);
 }
 
 #[test]
 fn synthetic_icosphere() {
-    check("icosphere4.off", true, FULL);
+    check("icosphere4.off", true, FULL, Schedule::Rounds);
+    check("icosphere4.off", true, FULL, Schedule::Regions);
 }
 
 #[test]
 fn synthetic_torus() {
-    check("torus120x40.off", true, FULL);
+    check("torus120x40.off", true, FULL, Schedule::Rounds);
+    check("torus120x40.off", true, FULL, Schedule::Regions);
 }
 
 #[test]
 fn dragon_one_source() {
-    check("dragon.ply", false, DRAGON);
+    check("dragon.ply", false, DRAGON, Schedule::Rounds);
+    check("dragon.ply", false, DRAGON, Schedule::Regions);
 }
 
 #[test]
 fn dragon_welded_one_source() {
-    check("dragon.ply.welded", false, DRAGON);
+    check("dragon.ply.welded", false, DRAGON, Schedule::Rounds);
+    check("dragon.ply.welded", false, DRAGON, Schedule::Regions);
 }
 
 /// Point sources (inside faces, on edges, at corners, several at once) and
@@ -316,12 +345,15 @@ fn point_sources_and_max_distance_match_vtp() {
                 .copied()
                 .filter(|d| d.is_finite())
                 .fold(0.0, f64::max);
-            for t in [1, 2, 8] {
-                let field = pvtp(&mesh, sources, t);
+            for (t, schedule) in [1, 2, 8]
+                .into_iter()
+                .flat_map(|t| [(t, Schedule::Rounds), (t, Schedule::Regions)])
+            {
+                let field = pvtp(&mesh, sources, t, schedule);
                 let (err, inf) = compare(&field.distance, &reference.distance);
                 assert!(
                     err <= REL * max && inf.is_empty(),
-                    "{file} {sources:?} T={t}: {err:.3e} from VTP, {} infinite mismatches",
+                    "{file} {sources:?} {schedule:?} T={t}: {err:.3e} from VTP, {} infinite mismatches",
                     inf.len()
                 );
                 // The nearest source really is at that distance.
@@ -337,20 +369,26 @@ fn point_sources_and_max_distance_match_vtp() {
             }
             // The distance limit: the same values within it, infinite beyond.
             let m = 0.4 * max;
-            let options = PvtpOptions {
-                threads: 2,
-                max_distance: Some(m),
-                ..PvtpOptions::default()
-            };
-            let limited = geodesics_pvtp::solve(&mesh, sources, &options).unwrap().0;
-            for (i, (&d, &r)) in limited.distance.iter().zip(&reference.distance).enumerate() {
-                if r <= m - REL * max {
-                    assert!(
-                        (d - r).abs() <= REL * max,
-                        "{file}: vertex {i} within limit"
-                    );
-                } else if r > m + REL * max {
-                    assert!(d.is_infinite(), "{file}: vertex {i} beyond limit");
+            for schedule in [Schedule::Rounds, Schedule::Regions] {
+                let options = PvtpOptions {
+                    threads: 2,
+                    max_distance: Some(m),
+                    schedule,
+                    ..PvtpOptions::default()
+                };
+                let limited = geodesics_pvtp::solve(&mesh, sources, &options).unwrap().0;
+                for (i, (&d, &r)) in limited.distance.iter().zip(&reference.distance).enumerate() {
+                    if r <= m - REL * max {
+                        assert!(
+                            (d - r).abs() <= REL * max,
+                            "{file} {schedule:?}: vertex {i} within limit"
+                        );
+                    } else if r > m + REL * max {
+                        assert!(
+                            d.is_infinite(),
+                            "{file} {schedule:?}: vertex {i} beyond limit"
+                        );
+                    }
                 }
             }
         }

@@ -31,13 +31,15 @@
 //! λ = 0.01: 0.46 s; rescanning the wavefront took 5.4 s, as long as VTP).
 //!
 //! **PAVTP**: with [`AvtpOptions::threads`] set, the same reset runs on top
-//! of parallel VTP (`geodesics-pvtp`), between its rounds; the result is
-//! deterministic for a given thread count (and, like AVTP, never below
-//! exact). It pays only when a reset leaves much work between resets: at
-//! λ = 8 its sequential part (selecting each round, applying its delayed
-//! writes) costs about what AVTP's whole solve does, and on 2 CPUs PAVTP
-//! ran at 0.7-0.9× AVTP's speed; at λ = 32-128 on the 1.1M-face
-//! subdivided bunny, 1.3-1.8× (`cargo xtask avtp --large`).
+//! of parallel VTP (`geodesics-pvtp`'s region schedule, `Schedule::Regions`):
+//! each band of the wavefront stops at the next reset radius, and each
+//! region resets its own wavefront vertices before the next band. The
+//! result is the same bits for every thread count (and, like AVTP, never
+//! below exact); it differs from sequential AVTP's in the last digits of
+//! the error only (mean error 7.57e-4 against 7.64e-4 on the coarse Loop×3
+//! bunny at λ = 8). On 2 CPUs it ran at 1.1–1.2× AVTP's speed at λ = 8;
+//! PVTP's rounds, which it used before, ran at 0.7–0.9×: their one-thread
+//! part cost about what AVTP's whole solve does.
 //!
 //! # Example
 //!
@@ -61,7 +63,7 @@ pub use geodesics_vtp::WindowReset;
 pub use geodesics_window::{DistanceField, Progress, Source, Stats};
 
 use geodesics_mesh::Mesh;
-use geodesics_pvtp::{PvtpError, PvtpOptions};
+use geodesics_pvtp::{PvtpError, PvtpOptions, Schedule};
 use geodesics_vtp::{VtpError, VtpOptions};
 
 /// Why an AVTP solve was refused.
@@ -155,6 +157,10 @@ pub fn solve(
                 max_distance: options.max_distance,
                 reset: Some(options.reset()),
                 progress: options.progress.clone(),
+                // Regions, not rounds: at λ = 8 the rounds' one-thread part
+                // cost about what AVTP's whole solve does (PAVTP at 0.8×
+                // AVTP on 2 CPUs); the regions have none (1.1–1.2×).
+                schedule: Schedule::Regions,
             };
             Ok(geodesics_pvtp::solve(mesh, sources, &pvtp)?)
         }

@@ -113,19 +113,19 @@ type ListSlots = [AtomicU32; 2];
 type PooledList = Mutex<Vec<EndedWindow>>;
 
 #[inline]
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     // A poisoned lock means a worker panicked (an invariant broke); the
     // panic propagates through rayon anyway, the data is still usable.
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 #[inline]
-fn read<T>(m: &RwLock<T>) -> RwLockReadGuard<'_, T> {
+pub(crate) fn read<T>(m: &RwLock<T>) -> RwLockReadGuard<'_, T> {
     m.read().unwrap_or_else(PoisonError::into_inner)
 }
 
 #[inline]
-fn write<T>(m: &RwLock<T>) -> RwLockWriteGuard<'_, T> {
+pub(crate) fn write<T>(m: &RwLock<T>) -> RwLockWriteGuard<'_, T> {
     m.write().unwrap_or_else(PoisonError::into_inner)
 }
 
@@ -1540,7 +1540,7 @@ fn face_owner(mesh: &Mesh, owners: &[u32], f: u32) -> u32 {
 /// `⌊x⌋` as an integer (saturating; NaN gives 0) without `f64::floor`,
 /// which the baseline x86-64 target compiles to a call into libm.
 #[inline]
-fn cell_index(x: f64) -> i64 {
+pub(crate) fn cell_index(x: f64) -> i64 {
     let t = x as i64;
     t - i64::from((t as f64) > x)
 }

@@ -1,0 +1,1251 @@
+//! PVTP's region schedule ([`crate::Schedule::Regions`]): no one-thread
+//! part between the parallel steps.
+//!
+//! The faces are cut into *regions*, the cubes of a grid about
+//! [`REGION_CELL_EDGES`] mean edges wide (a face belongs to the cube of its
+//! first corner). Each region runs sequential VTP (Algorithm 1 of Qin et
+//! al., with the same pruning rules, pseudo-sources and shadows as
+//! `geodesics-vtp`) on its own faces, with its own copy — a *slot* — of
+//! every vertex touching them, popping only vertices nearer than a bound.
+//! The bound grows by [`BAND_EDGES`] mean edges per *band*, Du et al.'s
+//! distance bucket. Windows bound for another region's faces, and the
+//! lowered distances of vertices that have copies in other regions (a
+//! pinch group's other members included), are *mail*: the delayed writes
+//! of the band, read by the receiving region at the start of the next one,
+//! senders in region order, each sender's in the order it made them.
+//!
+//! So the regions of one band are independent of each other: the crew's
+//! threads take them in any order (each first the regions it owns, the
+//! busiest of the last band first, then it steals), and the result does not
+//! depend on the thread count at all, not only from run to run. Between
+//! bands one thread only picks the next bound and the regions with work.
+//! Any order of propagation is exact (every pruning rule is sound in any
+//! order: a window that arrives a band late is propagated then, like a
+//! list VTP queues again after its face was entered), at the cost of
+//! windows a timely one would have pruned: 0.1–1.5 % more than VTP on our
+//! meshes.
+//!
+//! With a [`crate::WindowReset`] it is PAVTP: a band stops at the next
+//! reset radius, and the next band resets each region's own wavefront
+//! copies (Algorithm 3 of Du et al., lines 6–14) before it propagates.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Mutex, RwLock};
+use std::time::Instant;
+
+use geodesics_mesh::Mesh;
+use geodesics_window::prune::{
+    MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted, one_angle_two_sides,
+    vertex_check_ended,
+};
+use geodesics_window::{
+    ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, Progress, Shadow, SolverSetup,
+    Source, Stats, Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours,
+    pseudo_source_window, seeds,
+};
+use glam::DVec2;
+use rayon::prelude::*;
+
+use crate::PvtpOptions;
+use crate::crew::Crew;
+use crate::solver::{cell_index, lock, read, write};
+
+/// Region size, in mean edge lengths per side of a cube. Smaller regions
+/// balance two threads better but copy more vertices (on the coarse
+/// Loop×3 bunny: 16 edges 9 % more vertex records than 32, and slower;
+/// 48 no faster).
+pub(crate) const REGION_CELL_EDGES: f64 = 32.0;
+
+/// How far the bound moves per band, in mean edge lengths: narrower bands
+/// waste fewer windows, wider ones cost fewer hand-overs (on the coarse
+/// Loop×3 bunny, 0.5: 600 bands and no fewer windows; 2: 160 bands and
+/// 0.5 % more windows).
+pub(crate) const BAND_EDGES: f64 = 1.0;
+
+const NONE: u32 = u32::MAX;
+/// Per local half-edge: bit 31 says it waits in the FIFO, the other bits
+/// index its list in the region's pool, `NO_LIST` for none (as in VTP).
+const QUEUED: u32 = 1 << 31;
+const NO_LIST: u32 = QUEUED - 1;
+/// Queued slots whose records are asked for ahead (the top and its
+/// children, one of which is popped next).
+const UPCOMING: usize = ARITY + 1;
+
+/// A region's fixed layout: its faces, the copies of their corners and
+/// where else each vertex is copied.
+struct Layout {
+    /// Global face numbers; a face's local number is its index.
+    faces: Vec<u32>,
+    /// Per local face: the slots of its corners.
+    face_slots: Vec<[u32; 3]>,
+    /// Per slot: the vertex.
+    slot_vertex: Vec<u32>,
+    /// Per slot: its local faces (`fan[fan_start[s]..fan_start[s + 1]]`).
+    fan_start: Vec<u32>,
+    fan: Vec<u32>,
+    /// Per slot: `(region, slot)` of the vertex's copies in other regions
+    /// and of its pinch group's members (in this region too).
+    copy_start: Vec<u32>,
+    copies: Vec<(u32, u32)>,
+    /// Per slot: the vertex's first copy, the one that counts it as
+    /// reached in the progress report.
+    primary: Vec<bool>,
+}
+
+/// One region's solver state (locked by the thread running its band).
+struct Region {
+    index: usize,
+    lay: Layout,
+    tol: Tolerance,
+    lists: Vec<u32>,
+    /// Per local face: the pop at which it was entered, or `NONE`.
+    entered: Vec<u32>,
+    pool: Vec<Vec<EndedWindow>>,
+    free: Vec<u32>,
+    slots: Vec<VertexState>,
+    arrival: Vec<Arrival>,
+    heap: VertexQueue,
+    fifo: Vec<u32>,
+    /// Slots lowered in this band that have copies elsewhere.
+    dirty: Vec<u32>,
+    is_dirty: Vec<bool>,
+    /// Windows for other regions' half-edges (global numbers), in order.
+    out_windows: Vec<(u32, EndedWindow)>,
+    /// The sources' windows, merged in the first band.
+    seed_windows: Vec<(u32, EndedWindow)>,
+    /// AVTP: slots reached while outside (the wavefront), those reset,
+    /// and lists between two reset slots that grew since the last reset.
+    resets: bool,
+    front: Vec<u32>,
+    is_reset: Vec<bool>,
+    grown: Vec<u32>,
+    info: Vec<(f64, f64, f64)>,
+    left: Vec<EndedWindow>,
+    right: Vec<EndedWindow>,
+    rays: Vec<(u32, Option<(f64, f64)>)>,
+    incoming: Vec<EndedWindow>,
+    merge: MergeBuffers,
+    prefetched: [u32; UPCOMING],
+    pops: u32,
+    counts: Counts,
+}
+
+/// What a region counts for [`Stats`].
+#[derive(Clone, Copy, Default)]
+struct Counts {
+    props: u64,
+    prime: u64,
+    created: u64,
+    pops: u64,
+    emissions: u64,
+    settled: u64,
+    live: u64,
+}
+
+/// Read-only during bands.
+struct Shared<'a> {
+    mesh: &'a Mesh,
+    kind: Vec<FaceKind>,
+    max_distance: f64,
+    region_of_face: Vec<u32>,
+    local_face: Vec<u32>,
+}
+
+/// A region's mail of one band, sorted by receiving region.
+#[derive(Default)]
+struct Outbox {
+    /// The band it was written in (`u64::MAX`: never).
+    band: u64,
+    /// `(region, global half-edge, window)`.
+    windows: Vec<(u32, u32, EndedWindow)>,
+    /// `(region, slot, distance, source, arrival)`.
+    distances: Vec<(u32, u32, f64, u32, Arrival)>,
+}
+
+/// Where regions leave what the next band and the driving thread read.
+struct Post {
+    /// Per region, by band parity: the mail it wrote.
+    out: Vec<[Mutex<Outbox>; 2]>,
+    /// Per region, by band parity: whether mail waits for it.
+    has_mail: Vec<[AtomicBool; 2]>,
+    /// Per region: its nearest queued distance (bits), its last band's
+    /// work, whether it has wavefront copies (AVTP), its live windows.
+    top: Vec<AtomicU64>,
+    load: Vec<AtomicU64>,
+    has_front: Vec<AtomicBool>,
+    live: Vec<AtomicU64>,
+    /// The least distance mailed in this band (bits).
+    least_mailed: AtomicU64,
+    settled: AtomicU64,
+    /// Per region: the regions that can mail it, ascending.
+    senders: Vec<Vec<u32>>,
+}
+
+/// What the threads of a band read.
+struct Band {
+    index: u64,
+    bound: f64,
+    /// AVTP: reset the wavefront copies within this distance first.
+    guard: Option<f64>,
+    /// The active regions, in the crew's claim order.
+    order: Vec<u32>,
+}
+
+/// Runs the region schedule on the current rayon pool of `threads`
+/// threads (the sources are valid).
+pub(crate) fn solve(
+    mesh: &Mesh,
+    sources: &[Source],
+    options: &PvtpOptions,
+    threads: usize,
+    start: Instant,
+) -> (DistanceField, Stats) {
+    let tol = Tolerance::for_mesh(mesh);
+    let setup = SolverSetup::new(mesh, &tol);
+    let h = mesh.average_edge_length();
+    let (shared, mut regions, copies) = build(mesh, &setup, tol, options, REGION_CELL_EDGES * h);
+    let mut created = 0;
+    for (i, source) in sources.iter().enumerate() {
+        let seeds = seeds(mesh, &setup.kind, source, i as u32);
+        for &v in &seeds.pseudo {
+            for &(r, s) in copies.of(v) {
+                let x = &mut regions[r as usize].slots[s as usize];
+                x.pseudo = true;
+                x.shadowed = false;
+            }
+        }
+        for &(v, d) in &seeds.distances {
+            for &(r, s) in copies.of(v) {
+                regions[r as usize].lower(s, d, i as u32, Arrival::Unknown);
+            }
+        }
+        for &(t, w) in &seeds.windows {
+            created += 1;
+            let r = shared.region_of_face[(t / 3) as usize] as usize;
+            regions[r].seed_windows.push((t, EndedWindow::new(w)));
+        }
+    }
+    let nr = regions.len();
+    let post = Post {
+        out: (0..nr)
+            .map(|_| {
+                let never = || {
+                    Mutex::new(Outbox {
+                        band: u64::MAX,
+                        ..Outbox::default()
+                    })
+                };
+                [never(), never()]
+            })
+            .collect(),
+        has_mail: (0..nr)
+            .map(|_| [AtomicBool::new(false), AtomicBool::new(false)])
+            .collect(),
+        top: regions
+            .iter()
+            .map(|r| AtomicU64::new(r.top().to_bits()))
+            .collect(),
+        load: (0..nr).map(|_| AtomicU64::new(0)).collect(),
+        has_front: regions
+            .iter()
+            .map(|r| AtomicBool::new(!r.front.is_empty()))
+            .collect(),
+        live: (0..nr).map(|_| AtomicU64::new(0)).collect(),
+        least_mailed: AtomicU64::new(f64::INFINITY.to_bits()),
+        settled: AtomicU64::new(0),
+        senders: regions
+            .iter()
+            .map(|r| {
+                let mut s: Vec<u32> = r.lay.copies.iter().map(|&(q, _)| q).collect();
+                s.retain(|&q| q as usize != r.index);
+                s.sort_unstable();
+                s.dedup();
+                s
+            })
+            .collect(),
+    };
+    // The seeds' windows are read in band 0, as mail of "band −1".
+    for (r, region) in regions.iter().enumerate() {
+        if !region.seed_windows.is_empty() {
+            post.has_mail[r][1].store(true, Ordering::Relaxed);
+        }
+    }
+    let regions: Vec<Mutex<Region>> = regions.into_iter().map(Mutex::new).collect();
+    let band = RwLock::new(Band {
+        index: 0,
+        bound: f64::NEG_INFINITY,
+        guard: None,
+        order: Vec::new(),
+    });
+    let crew = Crew::new(threads);
+    let t0 = Instant::now();
+    let mut driver = Driver {
+        threads,
+        delta: BAND_EDGES * h,
+        reset_step: options.reset.map(|r| (r.lambda * h, r.lambda_g * h)),
+        next_reset: options.reset.map_or(f64::INFINITY, |r| r.lambda * h),
+        bands: 0,
+        resets: 0,
+        peak_live: 0,
+        progress: options.progress.clone(),
+    };
+    rayon::scope(|scope| {
+        for i in 1..threads {
+            let (crew, band, regions, post, shared) = (&crew, &band, &regions[..], &post, &shared);
+            scope.spawn(move |_| {
+                let mut seen = 0;
+                while crew.wait_phase(&mut seen) {
+                    let Some(done) =
+                        crew.guarded(|| work(i, crew, &read(band), regions, post, shared))
+                    else {
+                        return; // the driving thread raises the panic
+                    };
+                    crew.complete(done);
+                }
+            });
+        }
+        let _stop = crew.stop_on_drop();
+        driver.run(&crew, &band, &regions, &post, &shared);
+    });
+    let band_seconds = t0.elapsed().as_secs_f64();
+    let regions: Vec<Region> = regions
+        .into_iter()
+        .map(|m| {
+            m.into_inner()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+        })
+        .collect();
+    // Each vertex takes its nearest copy (the first of equal ones).
+    let mut best = vec![(f64::INFINITY, geodesics_window::NO_SOURCE); mesh.vertex_count()];
+    let mut counts = Counts {
+        created,
+        ..Counts::default()
+    };
+    for r in &regions {
+        for (s, x) in r.slots.iter().enumerate() {
+            let b = &mut best[r.lay.slot_vertex[s] as usize];
+            if x.dist < b.0 {
+                *b = (x.dist, x.src);
+            }
+        }
+        let c = r.counts;
+        counts.props += c.props;
+        counts.prime += c.prime;
+        counts.created += c.created;
+        counts.pops += c.pops;
+        counts.emissions += c.emissions;
+    }
+    let field = DistanceField::from_vertices(mesh, options.max_distance, |v| best[v]);
+    let stats = Stats {
+        windows_created: counts.created,
+        window_propagations: counts.props,
+        prime_propagations: counts.prime,
+        secondary_propagations: counts.props - counts.prime,
+        peak_live_windows: driver.peak_live,
+        peak_window_bytes: driver.peak_live * std::mem::size_of::<EndedWindow>() as u64,
+        vertex_pops: counts.pops,
+        pseudo_source_emissions: counts.emissions,
+        parallel_phases: driver.bands,
+        threads: threads as u64,
+        window_resets: driver.resets,
+        propagation_seconds: band_seconds,
+        pruning_seconds: 0.0,
+        total_seconds: start.elapsed().as_secs_f64(),
+        ..Stats::default()
+    };
+    let management = (stats.total_seconds - band_seconds).max(0.0);
+    (
+        field,
+        Stats {
+            management_seconds: management,
+            ..stats
+        },
+    )
+}
+
+/// Where each vertex is copied: `(region, slot)` pairs, in region order.
+struct Copies {
+    start: Vec<u32>,
+    pairs: Vec<(u32, u32)>,
+}
+
+impl Copies {
+    fn of(&self, v: u32) -> &[(u32, u32)] {
+        &self.pairs[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
+    }
+}
+
+/// Cuts the mesh into regions of cubes `cell` wide and lays each out, on
+/// the current pool.
+fn build<'a>(
+    mesh: &'a Mesh,
+    setup: &SolverSetup,
+    tol: Tolerance,
+    options: &PvtpOptions,
+    cell: f64,
+) -> (Shared<'a>, Vec<Region>, Copies) {
+    let nf = mesh.face_count();
+    let nv = mesh.vertex_count();
+    let inv = if cell.is_finite() && cell > 0.0 {
+        1.0 / cell
+    } else {
+        1.0
+    };
+    // A cube's key packs its three 21-bit cell numbers; regions are
+    // numbered in key order.
+    let keys: Vec<u64> = mesh
+        .positions()
+        .par_iter()
+        .map(|&p| {
+            let k = p * inv;
+            let m = (1u64 << 21) - 1;
+            ((cell_index(k.x) as u64 & m) << 42)
+                | ((cell_index(k.y) as u64 & m) << 21)
+                | (cell_index(k.z) as u64 & m)
+        })
+        .collect();
+    let face_key: Vec<u64> = (0..nf as u32)
+        .into_par_iter()
+        .map(|f| keys[mesh.tail(3 * f) as usize])
+        .collect();
+    let mut distinct = face_key.clone();
+    distinct.par_sort_unstable();
+    distinct.dedup();
+    let nr = distinct.len();
+    let region_of_face: Vec<u32> = face_key
+        .par_iter()
+        .map(|k| {
+            distinct
+                .binary_search(k)
+                .expect("every face's key is among the distinct keys") as u32
+        })
+        .collect();
+    // The faces of each region, in face order.
+    let mut start = vec![0u32; nr + 1];
+    for &r in &region_of_face {
+        start[r as usize + 1] += 1;
+    }
+    for i in 0..nr {
+        start[i + 1] += start[i];
+    }
+    let mut local_face = vec![0u32; nf];
+    let mut by_region = vec![0u32; nf];
+    let mut fill = start.clone();
+    for (f, &r) in region_of_face.iter().enumerate() {
+        let r = r as usize;
+        local_face[f] = fill[r] - start[r];
+        by_region[fill[r] as usize] = f as u32;
+        fill[r] += 1;
+    }
+    let faces_of = |r: usize| &by_region[start[r] as usize..start[r + 1] as usize];
+    // Per region: a slot per vertex, numbered as the faces meet them.
+    let parts: Vec<(Vec<u32>, Vec<[u32; 3]>)> = (0..nr)
+        .into_par_iter()
+        .map_init(
+            || (vec![NONE; nv], vec![0u32; nv]),
+            |(seen, slot_of), r| {
+                let mut slot_vertex = Vec::new();
+                let face_slots = faces_of(r)
+                    .iter()
+                    .map(|&f| {
+                        mesh.face(f).map(|v| {
+                            let v = v as usize;
+                            if seen[v] != r as u32 {
+                                seen[v] = r as u32;
+                                slot_of[v] = slot_vertex.len() as u32;
+                                slot_vertex.push(v as u32);
+                            }
+                            slot_of[v]
+                        })
+                    })
+                    .collect();
+                (slot_vertex, face_slots)
+            },
+        )
+        .collect();
+    let mut cstart = vec![0u32; nv + 1];
+    for (slot_vertex, _) in &parts {
+        for &v in slot_vertex {
+            cstart[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..nv {
+        cstart[i + 1] += cstart[i];
+    }
+    let mut pairs = vec![(0u32, 0u32); cstart[nv] as usize];
+    let mut fill = cstart.clone();
+    for (r, (slot_vertex, _)) in parts.iter().enumerate() {
+        for (s, &v) in slot_vertex.iter().enumerate() {
+            pairs[fill[v as usize] as usize] = (r as u32, s as u32);
+            fill[v as usize] += 1;
+        }
+    }
+    let copies = Copies {
+        start: cstart,
+        pairs,
+    };
+    let resets = options.reset.is_some();
+    let regions = parts
+        .into_par_iter()
+        .enumerate()
+        .map(|(r, (slot_vertex, face_slots))| {
+            let n = slot_vertex.len();
+            let mut copy_start = Vec::with_capacity(n + 1);
+            let mut others = Vec::new();
+            let mut primary = Vec::with_capacity(n);
+            for (s, &v) in slot_vertex.iter().enumerate() {
+                copy_start.push(others.len() as u32);
+                let mine = copies.of(v);
+                primary.push(mine[0] == (r as u32, s as u32));
+                others.extend(mine.iter().filter(|&&(q, _)| q as usize != r));
+                // A pinch group's members: lowering one lowers them all.
+                let g = setup.group_of[v as usize];
+                if g != NO_GROUP {
+                    for &u in setup.groups[g as usize].iter().filter(|&&u| u != v) {
+                        others.extend_from_slice(copies.of(u));
+                    }
+                }
+            }
+            copy_start.push(others.len() as u32);
+            // Local fans: the faces of each slot, by counting.
+            let mut fan_start = vec![0u32; n + 1];
+            for c in &face_slots {
+                for &s in c {
+                    fan_start[s as usize + 1] += 1;
+                }
+            }
+            for i in 0..n {
+                fan_start[i + 1] += fan_start[i];
+            }
+            let mut fan = vec![0u32; fan_start[n] as usize];
+            let mut fill = fan_start.clone();
+            for (lf, c) in face_slots.iter().enumerate() {
+                for &s in c {
+                    fan[fill[s as usize] as usize] = lf as u32;
+                    fill[s as usize] += 1;
+                }
+            }
+            let faces = faces_of(r).to_vec();
+            let nlf = faces.len();
+            Region {
+                index: r,
+                tol,
+                lists: vec![NO_LIST; 3 * nlf],
+                entered: vec![NONE; nlf],
+                pool: Vec::new(),
+                free: Vec::new(),
+                slots: slot_vertex
+                    .iter()
+                    .map(|&v| setup.vertex_state(v as usize))
+                    .collect(),
+                arrival: vec![Arrival::Unknown; n],
+                heap: VertexQueue::new(n),
+                fifo: Vec::new(),
+                dirty: Vec::new(),
+                is_dirty: vec![false; n],
+                out_windows: Vec::new(),
+                seed_windows: Vec::new(),
+                resets,
+                front: Vec::new(),
+                is_reset: if resets { vec![false; n] } else { Vec::new() },
+                grown: Vec::new(),
+                info: Vec::new(),
+                left: Vec::new(),
+                right: Vec::new(),
+                rays: Vec::new(),
+                incoming: Vec::new(),
+                merge: MergeBuffers::default(),
+                prefetched: [NONE; UPCOMING],
+                pops: 0,
+                counts: Counts::default(),
+                lay: Layout {
+                    faces,
+                    face_slots,
+                    slot_vertex,
+                    fan_start,
+                    fan,
+                    copy_start,
+                    copies: others,
+                    primary,
+                },
+            }
+        })
+        .collect();
+    let shared = Shared {
+        mesh,
+        kind: setup.kind.clone(),
+        max_distance: options.max_distance.unwrap_or(f64::INFINITY),
+        region_of_face,
+        local_face,
+    };
+    (shared, regions, copies)
+}
+
+/// The driving thread's state between bands.
+struct Driver {
+    threads: usize,
+    delta: f64,
+    /// AVTP: `(λh, λ_g h)` and the next reset radius.
+    reset_step: Option<(f64, f64)>,
+    next_reset: f64,
+    bands: u64,
+    resets: u64,
+    peak_live: u64,
+    progress: Progress,
+}
+
+impl Driver {
+    fn run(
+        &mut self,
+        crew: &Crew,
+        band: &RwLock<Band>,
+        regions: &[Mutex<Region>],
+        post: &Post,
+        shared: &Shared<'_>,
+    ) {
+        let nr = regions.len();
+        let t = self.threads.max(1);
+        let mut bound = f64::NEG_INFINITY;
+        let mut queues: Vec<Vec<u32>> = vec![Vec::new(); t];
+        let mut bounds = vec![(0, 0); t];
+        loop {
+            let index = self.bands;
+            let last = ((index + 1) % 2) as usize;
+            let mut least = f64::from_bits(
+                post.least_mailed
+                    .swap(f64::INFINITY.to_bits(), Ordering::Relaxed),
+            );
+            let mut mail = false;
+            let mut live = 0;
+            for r in 0..nr {
+                least = least.min(f64::from_bits(post.top[r].load(Ordering::Relaxed)));
+                mail |= post.has_mail[r][last].load(Ordering::Relaxed);
+                live += post.live[r].load(Ordering::Relaxed);
+            }
+            self.peak_live = self.peak_live.max(live);
+            self.progress
+                .set_reached(post.settled.load(Ordering::Relaxed));
+            // Done when nothing is queued within the limit and no mail waits.
+            let queued = least.is_finite() && least <= shared.max_distance;
+            if !queued && !mail {
+                break;
+            }
+            // AVTP (Algorithm 3 of Du et al.): the wavefront passed the
+            // next multiple of λh.
+            let mut guard = None;
+            if let Some((step, guard_band)) = self.reset_step
+                && least.is_finite()
+                && least >= self.next_reset
+            {
+                let steps = (least / step).floor();
+                self.next_reset = (steps + 1.0) * step;
+                guard = Some(steps * step + guard_band);
+                self.resets += 1;
+            }
+            if least.is_finite() {
+                bound = (bound.max(least) + self.delta).min(self.next_reset);
+            }
+            for q in &mut queues {
+                q.clear();
+            }
+            for r in 0..nr {
+                let mailed = post.has_mail[r][last].swap(false, Ordering::Relaxed);
+                let front = guard.is_some() && post.has_front[r].load(Ordering::Relaxed);
+                let top = f64::from_bits(post.top[r].load(Ordering::Relaxed));
+                if mailed || front || top < bound {
+                    queues[r % t].push(r as u32);
+                }
+            }
+            let mut n = 0;
+            let mut spec = write(band);
+            spec.order.clear();
+            for (q, b) in queues.iter_mut().zip(&mut bounds) {
+                // The busiest of the last band first: the long ones do not
+                // come last.
+                q.sort_by_key(|&r| {
+                    std::cmp::Reverse(post.load[r as usize].load(Ordering::Relaxed))
+                });
+                *b = (n, n + q.len());
+                n += q.len();
+                spec.order.extend_from_slice(q);
+            }
+            spec.index = index;
+            spec.bound = bound;
+            spec.guard = guard;
+            crew.begin(&bounds);
+            drop(spec);
+            if n > 1 && t > 1 {
+                crew.publish();
+            }
+            let done = work(0, crew, &read(band), regions, post, shared);
+            crew.complete(done);
+            crew.wait_completed(n);
+            self.bands += 1;
+        }
+    }
+}
+
+/// A thread's share of a band: the regions it claims.
+fn work(
+    w: usize,
+    crew: &Crew,
+    band: &Band,
+    regions: &[Mutex<Region>],
+    post: &Post,
+    shared: &Shared<'_>,
+) -> usize {
+    let mut done = 0;
+    while let Some(pos) = crew.claim(w) {
+        let r = band.order[pos] as usize;
+        let mut region = lock(&regions[r]);
+        let before = region.counts;
+        region.receive(shared, post, band.index);
+        if let Some(guard) = band.guard {
+            region.reset(guard);
+        }
+        region.run(shared, band.bound);
+        region.flush(shared, post, band.index);
+        let c = region.counts;
+        drop(region);
+        post.load[r].store(
+            c.props - before.props + 8 * (c.pops - before.pops),
+            Ordering::Relaxed,
+        );
+        post.settled
+            .fetch_add(c.settled - before.settled, Ordering::Relaxed);
+        done += 1;
+    }
+    done
+}
+
+impl Region {
+    fn top(&self) -> f64 {
+        self.heap
+            .peek()
+            .map_or(f64::INFINITY, |(k, _)| f64::from_bits(k))
+    }
+
+    /// Lowers slot `s` to `d` if shorter (the test inlined: most
+    /// candidates lose).
+    #[inline(always)]
+    fn lower(&mut self, s: u32, d: f64, src: u32, arrival: Arrival) {
+        if d < self.slots[s as usize].dist {
+            self.lower_now(s, d, src, arrival);
+        }
+    }
+
+    fn lower_now(&mut self, s: u32, d: f64, src: u32, arrival: Arrival) {
+        let x = &mut self.slots[s as usize];
+        if x.dist == f64::INFINITY && self.resets && !x.inside {
+            self.front.push(s);
+        }
+        x.dist = d;
+        x.src = src;
+        if x.shadowed {
+            self.arrival[s as usize] = arrival;
+        }
+        if !x.inside || x.must_emit(d, &self.tol) {
+            self.heap.push_or_lower(d.to_bits(), s);
+        }
+        let (a, b) = (
+            self.lay.copy_start[s as usize],
+            self.lay.copy_start[s as usize + 1],
+        );
+        if a == b {
+            return;
+        }
+        if self.slots[s as usize].grouped {
+            for k in a..b {
+                let (q, s2) = self.lay.copies[k as usize];
+                if q as usize == self.index {
+                    self.lower(s2, d, src, Arrival::Unknown);
+                }
+            }
+        }
+        if !self.is_dirty[s as usize] {
+            self.is_dirty[s as usize] = true;
+            self.dirty.push(s);
+        }
+    }
+
+    /// The mail of the last band: distances from every sender first, then
+    /// windows, senders in region order.
+    fn receive(&mut self, shared: &Shared<'_>, post: &Post, band: u64) {
+        let seeds = std::mem::take(&mut self.seed_windows);
+        for &(t, w) in &seeds {
+            let lt = 3 * shared.local_face[(t / 3) as usize] + t % 3;
+            self.append(lt, &mut [w]);
+        }
+        let Some(last) = band.checked_sub(1) else {
+            return;
+        };
+        let me = self.index as u32;
+        let parity = (last % 2) as usize;
+        for pass in 0..2 {
+            for k in 0..post.senders[self.index].len() {
+                let q = post.senders[self.index][k] as usize;
+                let outbox = lock(&post.out[q][parity]);
+                if outbox.band != last {
+                    continue;
+                }
+                if pass == 0 {
+                    let ds = &outbox.distances;
+                    let a = ds.partition_point(|m| m.0 < me);
+                    let b = ds.partition_point(|m| m.0 <= me);
+                    for &(_, s, d, src, arrival) in &ds[a..b] {
+                        self.lower(s, d, src, arrival);
+                    }
+                    continue;
+                }
+                let ws = &outbox.windows;
+                let (a, b) = (
+                    ws.partition_point(|m| m.0 < me),
+                    ws.partition_point(|m| m.0 <= me),
+                );
+                let mut i = a;
+                while i < b {
+                    // The windows for one half-edge go in with one merge.
+                    let t = ws[i].1;
+                    let j = i + ws[i..b].iter().take_while(|m| m.1 == t).count();
+                    let mut incoming = std::mem::take(&mut self.incoming);
+                    incoming.clear();
+                    incoming.extend(ws[i..j].iter().map(|m| m.2));
+                    let lt = 3 * shared.local_face[(t / 3) as usize] + t % 3;
+                    self.append(lt, &mut incoming);
+                    self.incoming = incoming;
+                    i = j;
+                }
+            }
+        }
+    }
+
+    /// AVTP's reset on this region's copies: wavefront slots within
+    /// `guard` become pseudo-sources emitting everywhere, and the lists
+    /// between two of them still outside are emptied.
+    fn reset(&mut self, guard: f64) {
+        let mut check = std::mem::take(&mut self.grown);
+        let mut front = std::mem::take(&mut self.front);
+        front.retain(|&s| {
+            let x = &mut self.slots[s as usize];
+            if x.inside {
+                return false;
+            }
+            if x.dist > guard {
+                return true;
+            }
+            x.pseudo = true;
+            x.shadowed = false;
+            self.is_reset[s as usize] = true;
+            let (a, b) = (
+                self.lay.fan_start[s as usize],
+                self.lay.fan_start[s as usize + 1],
+            );
+            for &lf in &self.lay.fan[a as usize..b as usize] {
+                check.extend((0..3).map(|i| 3 * lf + i));
+            }
+            false
+        });
+        self.front = front;
+        for &lh in &check {
+            let c = self.lay.face_slots[(lh / 3) as usize];
+            let on_front = |i: u32| {
+                let s = c[(i % 3) as usize] as usize;
+                self.is_reset[s] && !self.slots[s].inside
+            };
+            if !(on_front(lh % 3) && on_front(lh % 3 + 1)) {
+                continue;
+            }
+            let word = self.lists[lh as usize];
+            let idx = word & !QUEUED;
+            if idx != NO_LIST {
+                let list = &mut self.pool[idx as usize];
+                self.counts.live -= list.len() as u64;
+                list.clear();
+                self.free.push(idx);
+                self.lists[lh as usize] = NO_LIST | (word & QUEUED);
+            }
+        }
+        check.clear();
+        self.grown = check;
+    }
+
+    /// VTP's loop on this region's slots nearer than `bound`.
+    fn run(&mut self, shared: &Shared<'_>, bound: f64) {
+        self.drain(shared);
+        loop {
+            let d = self.top();
+            if !(d < bound && d <= shared.max_distance) {
+                break;
+            }
+            let Some((_, s)) = self.heap.pop() else {
+                break;
+            };
+            let x = self.slots[s as usize];
+            let first = !x.inside;
+            let emit = x.must_emit(d, &self.tol);
+            if !first && !emit {
+                continue;
+            }
+            self.pops += 1;
+            self.counts.pops += 1;
+            if first {
+                self.slots[s as usize].inside = true;
+                if self.lay.primary[s as usize] {
+                    self.counts.settled += 1;
+                }
+                self.prefetch_upcoming(shared);
+                // The faces around the vertex join the traversed area.
+                let (a, b) = (
+                    self.lay.fan_start[s as usize],
+                    self.lay.fan_start[s as usize + 1],
+                );
+                for k in a..b {
+                    let lf = self.lay.fan[k as usize];
+                    if self.entered[lf as usize] == NONE {
+                        self.entered[lf as usize] = self.pops;
+                    }
+                    for i in 0..3 {
+                        self.queue(3 * lf + i);
+                    }
+                }
+            }
+            if emit {
+                self.emit(shared, s);
+            }
+            self.drain(shared);
+        }
+    }
+
+    /// Asks for the records of the slots popped soon (once each).
+    fn prefetch_upcoming(&mut self, shared: &Shared<'_>) {
+        let mut seen = [NONE; UPCOMING];
+        for (j, u) in self.heap.upcoming(UPCOMING).enumerate() {
+            seen[j] = u;
+            if self.prefetched.contains(&u) {
+                continue;
+            }
+            let (a, b) = (
+                self.lay.fan_start[u as usize],
+                self.lay.fan_start[u as usize + 1],
+            );
+            for &lf in &self.lay.fan[a as usize..b as usize] {
+                shared.mesh.prefetch_face(self.lay.faces[lf as usize]);
+                geodesics_mesh::prefetch(&self.lists, 3 * lf as usize);
+            }
+            geodesics_mesh::prefetch(&self.slots, u as usize);
+        }
+        self.prefetched = seen;
+    }
+
+    #[inline]
+    fn queue(&mut self, lh: u32) {
+        let word = &mut self.lists[lh as usize];
+        if *word & QUEUED == 0 && *word != NO_LIST {
+            *word |= QUEUED;
+            self.fifo.push(lh);
+        }
+    }
+
+    fn drain(&mut self, shared: &Shared<'_>) {
+        let mut next = 0;
+        while let Some(&lh) = self.fifo.get(next) {
+            next += 1;
+            self.process(shared, lh);
+        }
+        self.fifo.clear();
+    }
+
+    /// Merges `windows` into the list of local half-edge `lh` (Rules 2
+    /// and 3) and queues it if an end was passed, as VTP's `append`.
+    #[inline(always)]
+    fn append(&mut self, lh: u32, windows: &mut [EndedWindow]) {
+        if windows.is_empty() {
+            return;
+        }
+        let word = self.lists[lh as usize];
+        let mut idx = word & !QUEUED;
+        if idx == NO_LIST {
+            idx = self.free.pop().unwrap_or_else(|| {
+                self.pool.push(Vec::new());
+                let i = self.pool.len() - 1;
+                assert!(i < NO_LIST as usize, "fewer window lists than 2^31 - 1");
+                i as u32
+            });
+            self.lists[lh as usize] = idx | (word & QUEUED);
+        }
+        let list = &mut self.pool[idx as usize];
+        let before = list.len() as u64;
+        merge_sorted(list, windows, &mut self.merge, &self.tol);
+        let after = list.len() as u64;
+        self.counts.live = self.counts.live + after - before;
+        if after == 0 {
+            let word = self.lists[lh as usize];
+            self.lists[lh as usize] = NO_LIST | (word & QUEUED);
+            self.free.push(idx);
+            return;
+        }
+        let c = self.lay.face_slots[(lh / 3) as usize];
+        let (a, b) = (
+            c[(lh % 3) as usize] as usize,
+            c[((lh + 1) % 3) as usize] as usize,
+        );
+        if self.resets && self.is_reset[a] && self.is_reset[b] {
+            self.grown.push(lh);
+        }
+        if self.slots[a].inside || self.slots[b].inside {
+            self.queue(lh);
+        }
+    }
+
+    /// Windows for global half-edge `t`: into its list if its face is this
+    /// region's, else into the mail.
+    #[inline(always)]
+    fn send(&mut self, shared: &Shared<'_>, t: u32, windows: &mut [EndedWindow]) {
+        if windows.is_empty() {
+            return;
+        }
+        let f = (t / 3) as usize;
+        if shared.region_of_face[f] as usize == self.index {
+            self.append(3 * shared.local_face[f] + t % 3, windows);
+        } else {
+            self.out_windows.extend(windows.iter().map(|&w| (t, w)));
+        }
+    }
+
+    /// Pseudo-source slot `s` (Section 5.2 of Qin et al.): relaxes its
+    /// neighbours along the edges of this region's faces around it and
+    /// puts a window with source at the vertex on each edge opposite it,
+    /// all of it or, for a saddle or flat vertex, the part in its shadow.
+    /// Its copies in other regions do the same for their faces.
+    fn emit(&mut self, shared: &Shared<'_>, s: u32) {
+        let mesh = shared.mesh;
+        let v = self.lay.slot_vertex[s as usize];
+        let x = &mut self.slots[s as usize];
+        let (d, src) = (x.dist, x.src);
+        x.emitted = d;
+        self.counts.emissions += 1;
+        let fan = mesh.fan(v).iter().copied();
+        let shadow = if x.shadowed {
+            Shadow::of_fan(mesh, v, fan.clone(), self.arrival[s as usize], &self.tol)
+        } else {
+            None
+        };
+        let check_now = shadow.is_none();
+        let mut rays = std::mem::take(&mut self.rays);
+        rays.clear();
+        rays.extend(Shadow::fan_rays(shadow, mesh, fan));
+        for &(h, ray) in &rays {
+            let f = Mesh::face_of(h);
+            if shared.region_of_face[f as usize] as usize != self.index {
+                continue;
+            }
+            let c = self.lay.face_slots[shared.local_face[f as usize] as usize];
+            // The vertex is corner h % 3 of the face; a and b follow it.
+            let (sa, sb) = (c[((h + 1) % 3) as usize], c[((h + 2) % 3) as usize]);
+            let [(_, la, back_a), (_, lb, back_b)] = corner_neighbours(mesh, h);
+            self.lower(sa, d + la, src, back_a);
+            self.lower(sb, d + lb, src, back_b);
+            if shared.kind[f as usize] != FaceKind::Proper {
+                continue;
+            }
+            let Some((t, w)) = ray.and_then(|r| pseudo_source_window(mesh, h, d, src, r)) else {
+                continue;
+            };
+            self.counts.created += 1;
+            let w = EndedWindow::new(w);
+            if check_now {
+                // Sent back into the traversed area (a reset vertex emits
+                // into its whole fan), it loses to the edge's ends at once.
+                let (da, db) = (self.slots[sa as usize].dist, self.slots[sb as usize].dist);
+                if beaten_from_edge_ends(&w, mesh.length(Mesh::next(h)), db, da, &self.tol) {
+                    continue;
+                }
+            }
+            self.send(shared, t, &mut [w]);
+        }
+        self.rays = rays;
+    }
+
+    /// Propagates the list of local half-edge `lh` through its face.
+    fn process(&mut self, shared: &Shared<'_>, lh: u32) {
+        let word = self.lists[lh as usize];
+        self.lists[lh as usize] = NO_LIST;
+        let idx = word & !QUEUED;
+        if idx == NO_LIST {
+            return;
+        }
+        let mut list = std::mem::take(&mut self.pool[idx as usize]);
+        self.counts.live -= list.len() as u64;
+        let lf = lh / 3;
+        let f = self.lay.faces[lf as usize];
+        let h = 3 * f + lh % 3;
+        match shared.kind[f as usize] {
+            FaceKind::Proper => self.cross(shared, lh, h, &list),
+            FaceKind::Zipper => {
+                // One edge of length zero: the windows pass on to the twin
+                // of the other long edge, as in VTP.
+                let mesh = shared.mesh;
+                if mesh.length(h) > 0.0 {
+                    let n = Mesh::next(h);
+                    let other = if mesh.length(n) > 0.0 {
+                        n
+                    } else {
+                        Mesh::prev(h)
+                    };
+                    if let Some(t) = mesh.twin(other) {
+                        self.send(shared, t, &mut list[..]);
+                    }
+                }
+            }
+            FaceKind::Blocked => {}
+        }
+        list.clear();
+        self.pool[idx as usize] = list;
+        self.free.push(idx);
+    }
+
+    /// VTP's crossing (Rule 1, one step per window, the vertex check on
+    /// each child) of local half-edge `lh`, global `h`.
+    fn cross(&mut self, shared: &Shared<'_>, lh: u32, h: u32, list: &[EndedWindow]) {
+        let mesh = shared.mesh;
+        let (lf, i) = (lh / 3, lh % 3);
+        let n = Mesh::next(h);
+        let p = Mesh::prev(h);
+        let (beyond_left, beyond_right) = (mesh.twin(p), mesh.twin(n));
+        for t in [beyond_left, beyond_right].into_iter().flatten() {
+            let ft = (t / 3) as usize;
+            if shared.region_of_face[ft] as usize == self.index {
+                geodesics_mesh::prefetch(&self.lists, (3 * shared.local_face[ft] + t % 3) as usize);
+            }
+        }
+        let c = self.lay.face_slots[lf as usize];
+        let (sa, sb, sc) = (
+            c[i as usize],
+            c[((i + 1) % 3) as usize],
+            c[((i + 2) % 3) as usize],
+        );
+        let tri =
+            Triangle::with_lengths(mesh.length(h), mesh.apex(h), mesh.length(p), mesh.length(n));
+        let tol = self.tol;
+        let mut info = std::mem::take(&mut self.info);
+        let (best, k) = apex_paths(list, &tri, &mut info);
+        if best.is_finite() {
+            let arrival = Arrival::Window {
+                half_edge: h,
+                at: info[k].1,
+            };
+            self.lower(sc, best, list[k].window.source, arrival);
+        }
+        let sp_s = info.get(k).map_or(0.0, |x| x.1);
+        let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
+        let a_right = tri.to_right_frame(DVec2::ZERO);
+        let (da, db, dc) = (
+            self.slots[sa as usize].dist,
+            self.slots[sb as usize].dist,
+            self.slots[sc as usize].dist,
+        );
+        let mut left = std::mem::take(&mut self.left);
+        let mut right = std::mem::take(&mut self.right);
+        // At most one child per window and side.
+        if left.len() < list.len() {
+            left.resize(list.len(), list[0]);
+            right.resize(list.len(), list[0]);
+        }
+        let (mut n_left, mut n_right) = (0, 0);
+        let mut props = 0u64;
+        for (j, e) in list.iter().enumerate() {
+            let w = &e.window;
+            let (t, sp, dj) = info[j];
+            // Rule 1 (Proposition 4.1 of Qin et al.), on a strict margin.
+            let cut = ((j != k) & tol.beats(best, dj)).then_some(sp_s);
+            let r = one_angle_two_sides(w, t, sp, cut);
+            if let Some((x0, x1, reach)) = r.left {
+                props += 1;
+                if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
+                    let cw = EndedWindow::new(cw);
+                    if !vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &tol) {
+                        left[n_left] = cw;
+                        n_left += 1;
+                    }
+                }
+            }
+            if let Some((x0, x1, from)) = r.right {
+                props += 1;
+                if let Some(cw) = w.child_right(&tri, x0, x1, from) {
+                    let cw = EndedWindow::new(cw);
+                    if !vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &tol) {
+                        right[n_right] = cw;
+                        n_right += 1;
+                    }
+                }
+            }
+        }
+        self.counts.props += props;
+        self.counts.created += props;
+        if self.entered[lf as usize] == self.pops {
+            self.counts.prime += props;
+        }
+        self.info = info;
+        // Beyond C → A and beyond B → C.
+        if let Some(t) = beyond_left {
+            self.send(shared, t, &mut left[..n_left]);
+        }
+        if let Some(t) = beyond_right {
+            self.send(shared, t, &mut right[..n_right]);
+        }
+        self.left = left;
+        self.right = right;
+    }
+
+    /// Writes this band's mail (sorted by receiving region, stable) and
+    /// what the driving thread reads.
+    fn flush(&mut self, shared: &Shared<'_>, post: &Post, band: u64) {
+        let parity = (band % 2) as usize;
+        let mut outbox = lock(&post.out[self.index][parity]);
+        outbox.band = band;
+        outbox.windows.clear();
+        outbox.distances.clear();
+        outbox.windows.extend(
+            self.out_windows
+                .drain(..)
+                .map(|(t, w)| (shared.region_of_face[(t / 3) as usize], t, w)),
+        );
+        outbox.windows.sort_by_key(|m| m.0);
+        let mut least = f64::INFINITY;
+        for &s in &self.dirty {
+            self.is_dirty[s as usize] = false;
+            let x = self.slots[s as usize];
+            let arrival = self.arrival[s as usize];
+            let (a, b) = (
+                self.lay.copy_start[s as usize],
+                self.lay.copy_start[s as usize + 1],
+            );
+            for &(q, s2) in &self.lay.copies[a as usize..b as usize] {
+                if q as usize != self.index {
+                    outbox.distances.push((q, s2, x.dist, x.src, arrival));
+                    least = least.min(x.dist);
+                }
+            }
+        }
+        self.dirty.clear();
+        outbox.distances.sort_by_key(|m| m.0);
+        let mut last = NONE;
+        for q in outbox
+            .windows
+            .iter()
+            .map(|m| m.0)
+            .chain(outbox.distances.iter().map(|m| m.0))
+        {
+            if q != last {
+                post.has_mail[q as usize][parity].store(true, Ordering::Relaxed);
+                last = q;
+            }
+        }
+        drop(outbox);
+        post.least_mailed
+            .fetch_min(least.to_bits(), Ordering::Relaxed);
+        post.top[self.index].store(self.top().to_bits(), Ordering::Relaxed);
+        post.has_front[self.index].store(!self.front.is_empty(), Ordering::Relaxed);
+        post.live[self.index].store(self.counts.live, Ordering::Relaxed);
+    }
+}
