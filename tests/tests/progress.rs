@@ -6,7 +6,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use geodesics::{Algorithm, BuildOptions, Mesh, Progress, Source, compute};
 
 const ALGORITHMS: &[&str] = &[
-    "vtp", "ftp", "opvtp", "avtp", "pavtp", "pvtp", "mmp", "fwp-mmp", "ich", "fwp-ch",
+    "vtp",
+    "ftp",
+    "opvtp",
+    "avtp",
+    "pavtp",
+    "pvtp",
+    "pvtp-regions",
+    "mmp",
+    "fwp-mmp",
+    "ich",
+    "fwp-ch",
 ];
 
 /// Two flat grids side by side, not joined: the second is never reached

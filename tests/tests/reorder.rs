@@ -163,7 +163,7 @@ fn check(name: &str, soup: &IndexedTriangles, weld: bool, algorithms: &[&str]) {
     }
 }
 
-const ALL: &[&str] = &["vtp", "pvtp", "avtp", "mmp", "ich"];
+const ALL: &[&str] = &["vtp", "pvtp", "pvtp-regions", "avtp", "mmp", "ich"];
 
 #[test]
 fn procedural_meshes() {

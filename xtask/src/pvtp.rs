@@ -6,6 +6,7 @@
 use std::time::Instant;
 
 use anyhow::Result;
+use geodesics::PvtpSchedule as Schedule;
 use geodesics::{Algorithm, Mesh, PvtpOptions, Source};
 use serde_json::json;
 
@@ -13,7 +14,11 @@ use crate::cores::{FAST_ROUND_TRIP_NS, RoundTrips};
 use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, Spread, build_renumbered, coarse_bunny, data_dir, read};
 
-/// The scaling table, one row for VTP and one per thread count, per mesh.
+/// PVTP's two ways of cutting the work, each timed at every T.
+const SCHEDULES: [Schedule; 2] = [Schedule::Rounds, Schedule::Regions];
+
+/// The scaling table, one row for VTP and one per schedule and thread
+/// count, per mesh.
 pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     let dir = data_dir()?;
     let mut report = Report::new("pvtp", Some(runs), &dir, json)?;
@@ -69,13 +74,17 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
         .concat(),
     );
     for (name, mesh) in cases {
+        // VTP, then each schedule at every T.
         let mut algorithms = vec![Algorithm::default()];
-        algorithms.extend(threads.iter().map(|&t| {
-            Algorithm::Pvtp(PvtpOptions {
-                threads: t,
-                ..PvtpOptions::default()
-            })
-        }));
+        for schedule in SCHEDULES {
+            algorithms.extend(threads.iter().map(|&t| {
+                Algorithm::Pvtp(PvtpOptions {
+                    threads: t,
+                    schedule,
+                    ..PvtpOptions::default()
+                })
+            }));
+        }
         let mut round_trips = RoundTrips::new();
         let timed = Interleaved::run_with(&mesh, &algorithms, runs, || round_trips.sample())?;
         round_trips.sample();
@@ -95,41 +104,48 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             Cell::missing(),
             Cell::missing(),
         ]);
-        for (k, &t) in threads.iter().enumerate() {
-            let i = k + 1;
-            let st = &timed.fastest[i].1;
-            // The one-thread part (selection, delayed writes, setup): what
-            // bounds the speed-up, whatever T.
-            let outside = st.management_seconds;
-            let percent = 100.0 * outside / st.total_seconds.max(f64::MIN_POSITIVE);
-            report.row(vec![
-                Cell::text(&name),
-                Cell::shown(mesh.face_count()),
-                Cell::text("PVTP"),
-                Cell::shown(t),
-                Cell::fixed(timed.best(i), 3),
-                Cell::spread(timed.speed_up(1, i)),
-                if t == 1 {
-                    Cell::missing()
-                } else {
-                    round_trips.fast_speed_up(&timed, 1, i)
-                },
-                Cell::spread(timed.speed_up(0, i)),
-                Cell::fixed(
-                    st.window_propagations as f64 / vtp.window_propagations.max(1) as f64,
-                    3,
-                ),
-                Cell::shown(st.parallel_phases),
-                Cell::new(
-                    format!("{outside:.3} s ({percent:.0} %)"),
-                    json!({"seconds": number(outside), "percent": number(percent)}),
-                ),
-                if t > 1 {
-                    round_trip.clone()
-                } else {
-                    Cell::missing()
-                },
-            ]);
+        for (j, schedule) in SCHEDULES.into_iter().enumerate() {
+            // The schedule's T = 1 run, the base of its speed-ups.
+            let one = 1 + j * threads.len();
+            for (k, &t) in threads.iter().enumerate() {
+                let i = one + k;
+                let st = &timed.fastest[i].1;
+                // The one-thread part (selection, delayed writes, setup): what
+                // bounds the speed-up, whatever T.
+                let outside = st.management_seconds;
+                let percent = 100.0 * outside / st.total_seconds.max(f64::MIN_POSITIVE);
+                report.row(vec![
+                    Cell::text(&name),
+                    Cell::shown(mesh.face_count()),
+                    Cell::text(match schedule {
+                        Schedule::Rounds => "PVTP",
+                        Schedule::Regions => "PVTP, regions",
+                    }),
+                    Cell::shown(t),
+                    Cell::fixed(timed.best(i), 3),
+                    Cell::spread(timed.speed_up(one, i)),
+                    if t == 1 {
+                        Cell::missing()
+                    } else {
+                        round_trips.fast_speed_up(&timed, one, i)
+                    },
+                    Cell::spread(timed.speed_up(0, i)),
+                    Cell::fixed(
+                        st.window_propagations as f64 / vtp.window_propagations.max(1) as f64,
+                        3,
+                    ),
+                    Cell::shown(st.parallel_phases),
+                    Cell::new(
+                        format!("{outside:.3} s ({percent:.0} %)"),
+                        json!({"seconds": number(outside), "percent": number(percent)}),
+                    ),
+                    if t > 1 {
+                        round_trip.clone()
+                    } else {
+                        Cell::missing()
+                    },
+                ]);
+            }
         }
         for &t in threads.iter().filter(|&&t| t > 1) {
             let (best, throughput) = solves_at_once(&mesh, t, runs)?;
@@ -155,7 +171,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
         ),
     );
     report.note(
-        "Speed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
+        "Speed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. PVTP, regions: the region schedule (`Schedule::Regions`): its phases are the bands, and outside them is the setup (cutting the mesh into regions) and the result. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
     );
     report.finish()
 }

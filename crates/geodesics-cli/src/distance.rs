@@ -33,7 +33,7 @@ pub struct DistanceArgs {
     /// Stop propagating beyond this distance (farther vertices are `inf`).
     #[arg(long, value_name = "D")]
     pub max_distance: Option<f64>,
-    /// Parallel algorithms (`pvtp`): worker threads (default: every logical
+    /// Parallel algorithms (`pvtp`, `pvtp-regions`, `pavtp`): worker threads (default: every logical
     /// CPU). Results are identical from run to run for a given count.
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,

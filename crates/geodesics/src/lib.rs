@@ -36,7 +36,7 @@ pub use geodesics_ich::{IchError, IchOptions};
 pub use geodesics_io as io;
 pub use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh, MeshError, MeshSummary};
 pub use geodesics_mmp::{MmpError, MmpOptions};
-pub use geodesics_pvtp::{PvtpError, PvtpOptions};
+pub use geodesics_pvtp::{PvtpError, PvtpOptions, Schedule as PvtpSchedule};
 pub use geodesics_vtp::PathError;
 pub use geodesics_vtp::{Merge, PairRule, Pruning, Rule1, Schedule, VtpError, VtpOptions};
 pub use geodesics_window::{
@@ -97,8 +97,9 @@ pub enum Algorithm {
     /// MMP (Surazhsky et al. 2005), exact, with a window priority queue or
     /// FWP's distance buckets (Xu et al. 2015).
     Mmp(MmpOptions),
-    /// Parallel VTP (Du et al. 2021), exact and deterministic per thread
-    /// count.
+    /// Parallel VTP (Du et al. 2021), exact: in the paper's rounds
+    /// (`pvtp`, deterministic per thread count) or in regions of space
+    /// (`pvtp-regions`, the same bits for every thread count).
     Pvtp(PvtpOptions),
     /// ICH (Xin and Wang 2009), exact, with a window priority queue or FWP's
     /// distance buckets (FWP-CH).
@@ -125,6 +126,7 @@ impl Algorithm {
         "ich",
         "fwp-ch",
         "pvtp",
+        "pvtp-regions",
         "avtp",
         "pavtp",
     ];
@@ -140,7 +142,10 @@ impl Algorithm {
                 geodesics_mmp::Schedule::PriorityQueue => "mmp",
                 geodesics_mmp::Schedule::Fwp => "fwp-mmp",
             },
-            Algorithm::Pvtp(_) => "pvtp",
+            Algorithm::Pvtp(o) => match o.schedule {
+                geodesics_pvtp::Schedule::Rounds => "pvtp",
+                geodesics_pvtp::Schedule::Regions => "pvtp-regions",
+            },
             Algorithm::Ich(o) => match o.schedule {
                 geodesics_ich::Schedule::PriorityQueue => "ich",
                 geodesics_ich::Schedule::Fwp => "fwp-ch",
@@ -255,6 +260,10 @@ impl FromStr for Algorithm {
                 ..AvtpOptions::default()
             })),
             "pvtp" => Ok(Algorithm::Pvtp(PvtpOptions::default())),
+            "pvtp-regions" => Ok(Algorithm::Pvtp(PvtpOptions {
+                schedule: geodesics_pvtp::Schedule::Regions,
+                ..PvtpOptions::default()
+            })),
             "ich" => Ok(Algorithm::Ich(IchOptions::ich())),
             "fwp-ch" => Ok(Algorithm::Ich(IchOptions::fwp_ch())),
             "mmp" | "fwp-mmp" => Ok(Algorithm::Mmp(MmpOptions {
@@ -336,7 +345,7 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-order-free, vtp-mmp, vtp-ch, \
-             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, vtp-full-emission, mmp, fwp-mmp, ich, fwp-ch, pvtp, avtp, pavtp)"
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, vtp-full-emission, mmp, fwp-mmp, ich, fwp-ch, pvtp, pvtp-regions, avtp, pavtp)"
         );
     }
 
