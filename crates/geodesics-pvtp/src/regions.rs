@@ -34,21 +34,17 @@ use std::sync::{Mutex, RwLock};
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
-use geodesics_window::prune::{
-    MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted, one_angle_two_sides,
-    vertex_check_ended,
-};
+use geodesics_window::prune::{MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted};
 use geodesics_window::{
     ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, Progress, Shadow, SolverSetup,
     Source, Stats, Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours,
     pseudo_source_window, seeds,
 };
-use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::PvtpOptions;
 use crate::crew::Crew;
-use crate::solver::{cell_index, lock, read, write};
+use crate::solver::{cell_index, lock, read, step_windows, write};
 
 /// Region size, in mean edge lengths per side of a cube. Smaller regions
 /// balance two threads better but copy more vertices (on the coarse
@@ -1136,9 +1132,6 @@ impl Region {
             };
             self.lower(sc, best, list[k].window.source, arrival);
         }
-        let sp_s = info.get(k).map_or(0.0, |x| x.1);
-        let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
-        let a_right = tri.to_right_frame(DVec2::ZERO);
         let (da, db, dc) = (
             self.slots[sa as usize].dist,
             self.slots[sb as usize].dist,
@@ -1152,34 +1145,16 @@ impl Region {
             right.resize(list.len(), list[0]);
         }
         let (mut n_left, mut n_right) = (0, 0);
-        let mut props = 0u64;
-        for (j, e) in list.iter().enumerate() {
-            let w = &e.window;
-            let (t, sp, dj) = info[j];
-            // Rule 1 (Proposition 4.1 of Qin et al.), on a strict margin.
-            let cut = ((j != k) & tol.beats(best, dj)).then_some(sp_s);
-            let r = one_angle_two_sides(w, t, sp, cut);
-            if let Some((x0, x1, reach)) = r.left {
-                props += 1;
-                if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
-                    let cw = EndedWindow::new(cw);
-                    if !vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &tol) {
-                        left[n_left] = cw;
-                        n_left += 1;
-                    }
-                }
-            }
-            if let Some((x0, x1, from)) = r.right {
-                props += 1;
-                if let Some(cw) = w.child_right(&tri, x0, x1, from) {
-                    let cw = EndedWindow::new(cw);
-                    if !vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &tol) {
-                        right[n_right] = cw;
-                        n_right += 1;
-                    }
-                }
-            }
-        }
+        let props = step_windows(
+            list,
+            &info,
+            &tri,
+            (best, k),
+            (da, db, dc),
+            &tol,
+            (&mut left, &mut n_left),
+            (&mut right, &mut n_right),
+        );
         self.counts.props += props;
         self.counts.created += props;
         if self.entered[lf as usize] == self.pops {

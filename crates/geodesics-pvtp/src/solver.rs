@@ -678,10 +678,6 @@ fn cross(
         };
         out.push_update(mesh.tail(p), best, list[k].window.source, arrival);
     }
-    let sp_s = info.get(k).map_or(0.0, |x| x.1);
-    let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
-    let a_right = tri.to_right_frame(DVec2::ZERO);
-    let (da, db, dc) = (d[ia], d[ib], d[ic]);
     // Edge C→A is edge `ic` of the face, B→C edge `ib`.
     let [left, right] = s
         .beyond
@@ -693,6 +689,43 @@ fn cross(
         right.make_room(list.len(), first);
     }
     let (mut n_left, mut n_right) = (left.len, right.len);
+    out.props += step_windows(
+        list,
+        info,
+        &tri,
+        (best, k),
+        (d[ia], d[ib], d[ic]),
+        &tol,
+        (&mut left.windows, &mut n_left),
+        (&mut right.windows, &mut n_right),
+    );
+    (left.len, right.len) = (n_left, n_right);
+}
+
+/// The per-window part of a crossing, shared by both schedules: Rule 1
+/// against the list's best path to the apex (`best` through window `k`;
+/// `info` from [`apex_paths`]), one step per window, and the vertex check
+/// of each child against the corners' distances `(A, B, C)`. Children
+/// beyond `CA` go to `left.0[*left.1..]`, those beyond `BC` to
+/// `right.0[*right.1..]` (the callers made room for one per window and
+/// side); returns the propagations.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn step_windows(
+    list: &[EndedWindow],
+    info: &[(f64, f64, f64)],
+    tri: &Triangle,
+    (best, k): (f64, usize),
+    (da, db, dc): (f64, f64, f64),
+    tol: &Tolerance,
+    left: (&mut [EndedWindow], &mut usize),
+    right: (&mut [EndedWindow], &mut usize),
+) -> u64 {
+    let sp_s = info.get(k).map_or(0.0, |x| x.1);
+    let b_left = tri.to_left_frame(DVec2::new(tri.l, 0.0));
+    let a_right = tri.to_right_frame(DVec2::ZERO);
+    let (left, n_left) = left;
+    let (right, n_right) = right;
     let mut props = 0u64;
     for (j, e) in list.iter().enumerate() {
         let w = &e.window;
@@ -703,27 +736,26 @@ fn cross(
         let r = one_angle_two_sides(w, t, sp, cut);
         if let Some((x0, x1, reach)) = r.left {
             props += 1;
-            if let Some(cw) = w.child_left(&tri, x0, x1, reach) {
+            if let Some(cw) = w.child_left(tri, x0, x1, reach) {
                 let cw = EndedWindow::new(cw);
-                if !vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, &tol) {
-                    left.windows[n_left] = cw;
-                    n_left += 1;
+                if !vertex_check_ended(&cw, tri.lac, da, dc, b_left, db, tol) {
+                    left[*n_left] = cw;
+                    *n_left += 1;
                 }
             }
         }
         if let Some((x0, x1, from)) = r.right {
             props += 1;
-            if let Some(cw) = w.child_right(&tri, x0, x1, from) {
+            if let Some(cw) = w.child_right(tri, x0, x1, from) {
                 let cw = EndedWindow::new(cw);
-                if !vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, &tol) {
-                    right.windows[n_right] = cw;
-                    n_right += 1;
+                if !vertex_check_ended(&cw, tri.lcb, dc, db, a_right, da, tol) {
+                    right[*n_right] = cw;
+                    *n_right += 1;
                 }
             }
         }
     }
-    (left.len, right.len) = (n_left, n_right);
-    out.props += props;
+    props
 }
 
 /// The solver state (sequential parts: selection, seeding, merge).
