@@ -36,8 +36,8 @@ use std::time::Instant;
 use geodesics_mesh::Mesh;
 use geodesics_window::prune::{MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted};
 use geodesics_window::{
-    ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, Progress, Shadow, SolverSetup,
-    Source, Stats, Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours,
+    ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, NO_SOURCE, Progress, Shadow,
+    SolverSetup, Source, Stats, Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours,
     pseudo_source_window, seeds,
 };
 use rayon::prelude::*;
@@ -311,19 +311,11 @@ pub(crate) fn solve(
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
         })
         .collect();
-    // Each vertex takes its nearest copy (the first of equal ones).
-    let mut best = vec![(f64::INFINITY, geodesics_window::NO_SOURCE); mesh.vertex_count()];
     let mut counts = Counts {
         created,
         ..Counts::default()
     };
     for r in &regions {
-        for (s, x) in r.slots.iter().enumerate() {
-            let b = &mut best[r.lay.slot_vertex[s] as usize];
-            if x.dist < b.0 {
-                *b = (x.dist, x.src);
-            }
-        }
         let c = r.counts;
         counts.props += c.props;
         counts.prime += c.prime;
@@ -331,6 +323,24 @@ pub(crate) fn solve(
         counts.pops += c.pops;
         counts.emissions += c.emissions;
     }
+    // Each vertex takes its nearest copy (the first of equal ones, in
+    // region order), gathered on the pool.
+    let best: Vec<(f64, u32)> = (0..mesh.vertex_count() as u32)
+        .into_par_iter()
+        .map(|v| {
+            copies
+                .of(v)
+                .iter()
+                .map(|&(r, s)| {
+                    let x = &regions[r as usize].slots[s as usize];
+                    (x.dist, x.src)
+                })
+                .fold(
+                    (f64::INFINITY, NO_SOURCE),
+                    |b, c| if c.0 < b.0 { c } else { b },
+                )
+        })
+        .collect();
     let field = DistanceField::from_vertices(mesh, options.max_distance, |v| best[v]);
     let stats = Stats {
         windows_created: counts.created,
