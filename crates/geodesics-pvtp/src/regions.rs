@@ -120,6 +120,9 @@ struct Region {
     right: Vec<EndedWindow>,
     rays: Vec<(u32, Option<(f64, f64)>)>,
     incoming: Vec<EndedWindow>,
+    /// Scratch: the regions this one mails, and those that mailed it.
+    mailed: Vec<u32>,
+    senders: Vec<u32>,
     merge: MergeBuffers,
     prefetched: [u32; UPCOMING],
     pops: u32,
@@ -173,8 +176,9 @@ struct Post {
     /// The least distance mailed in this band (bits).
     least_mailed: AtomicU64,
     settled: AtomicU64,
-    /// Per region: the regions that can mail it, ascending.
-    senders: Vec<Vec<u32>>,
+    /// Per region, by band parity: the regions that mailed it (a sender
+    /// adds itself once per band; the receiver sorts and empties it).
+    senders: Vec<[Mutex<Vec<u32>>; 2]>,
 }
 
 /// What the threads of a band read.
@@ -249,15 +253,8 @@ pub(crate) fn solve(
         live: (0..nr).map(|_| AtomicU64::new(0)).collect(),
         least_mailed: AtomicU64::new(f64::INFINITY.to_bits()),
         settled: AtomicU64::new(0),
-        senders: regions
-            .iter()
-            .map(|r| {
-                let mut s: Vec<u32> = r.lay.copies.iter().map(|&(q, _)| q).collect();
-                s.retain(|&q| q as usize != r.index);
-                s.sort_unstable();
-                s.dedup();
-                s
-            })
+        senders: (0..nr)
+            .map(|_| [Mutex::new(Vec::new()), Mutex::new(Vec::new())])
             .collect(),
     };
     // The seeds' windows are read in band 0, as mail of "band −1".
@@ -560,6 +557,8 @@ fn build<'a>(
                 right: Vec::new(),
                 rays: Vec::new(),
                 incoming: Vec::new(),
+                mailed: Vec::new(),
+                senders: Vec::new(),
                 merge: MergeBuffers::default(),
                 prefetched: [NONE; UPCOMING],
                 pops: 0,
@@ -787,10 +786,15 @@ impl Region {
         };
         let me = self.index as u32;
         let parity = (last % 2) as usize;
+        // The regions that mailed this one, in region order; the emptied
+        // buffer goes back for the next band's senders.
+        let mut senders = std::mem::take(&mut self.senders);
+        senders.clear();
+        std::mem::swap(&mut *lock(&post.senders[self.index][parity]), &mut senders);
+        senders.sort_unstable();
         for pass in 0..2 {
-            for k in 0..post.senders[self.index].len() {
-                let q = post.senders[self.index][k] as usize;
-                let outbox = lock(&post.out[q][parity]);
+            for &q in &senders {
+                let outbox = lock(&post.out[q as usize][parity]);
                 if outbox.band != last {
                     continue;
                 }
@@ -823,6 +827,7 @@ impl Region {
                 }
             }
         }
+        self.senders = senders;
     }
 
     /// AVTP's reset on this region's copies: wavefront slots within
@@ -1214,18 +1219,18 @@ impl Region {
         }
         self.dirty.clear();
         outbox.distances.sort_by_key(|m| m.0);
-        let mut last = NONE;
-        for q in outbox
-            .windows
-            .iter()
-            .map(|m| m.0)
-            .chain(outbox.distances.iter().map(|m| m.0))
-        {
-            if q != last {
-                post.has_mail[q as usize][parity].store(true, Ordering::Relaxed);
-                last = q;
-            }
+        // Each receiver once (it may have both windows and distances).
+        let mut mailed = std::mem::take(&mut self.mailed);
+        mailed.clear();
+        mailed.extend(outbox.windows.iter().map(|m| m.0));
+        mailed.extend(outbox.distances.iter().map(|m| m.0));
+        mailed.sort_unstable();
+        mailed.dedup();
+        for &q in &mailed {
+            post.has_mail[q as usize][parity].store(true, Ordering::Relaxed);
+            lock(&post.senders[q as usize][parity]).push(self.index as u32);
         }
+        self.mailed = mailed;
         drop(outbox);
         post.least_mailed
             .fetch_min(least.to_bits(), Ordering::Relaxed);
