@@ -113,6 +113,20 @@ pub struct PvtpOptions {
 /// How PVTP cuts its work for the threads. Both are exact (and PAVTP with a
 /// reset); they differ in speed and in how the result's last bits depend on
 /// the thread count.
+///
+/// ```
+/// use geodesics_mesh::{BuildOptions, Mesh};
+/// use geodesics_pvtp::{PvtpOptions, Schedule, solve};
+/// use geodesics_window::Source;
+///
+/// let mesh = Mesh::build(geodesics_shapes::icosphere(3, 1.0), &BuildOptions::default()).unwrap();
+/// let on = |threads| {
+///     let options = PvtpOptions { threads, schedule: Schedule::Regions, ..PvtpOptions::default() };
+///     solve(&mesh, &[Source::Vertex(0)], &options).unwrap().0
+/// };
+/// // The region schedule gives the same bits whatever the thread count.
+/// assert_eq!(on(1), on(3));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Schedule {
     /// Du et al.'s rounds (the crate docs): one thread selects the nearest
