@@ -386,6 +386,21 @@ mod tests {
         }
     }
 
+    /// The window counts every schedule reports.
+    fn assert_windows_counted(stats: &Stats) {
+        assert!(stats.window_propagations > 0);
+        assert!(stats.windows_created >= stats.window_propagations);
+        assert_eq!(
+            stats.prime_propagations + stats.secondary_propagations,
+            stats.window_propagations
+        );
+        assert!(stats.peak_live_windows > 0);
+        assert_eq!(
+            stats.peak_window_bytes,
+            stats.peak_live_windows * std::mem::size_of::<geodesics_window::EndedWindow>() as u64
+        );
+    }
+
     #[test]
     fn statistics_are_counted() {
         let mesh = build(geodesics_shapes::icosphere(3, 1.0));
@@ -398,17 +413,7 @@ mod tests {
             },
         )
         .unwrap();
-        assert!(stats.window_propagations > 0);
-        assert!(stats.windows_created >= stats.window_propagations);
-        assert_eq!(
-            stats.prime_propagations + stats.secondary_propagations,
-            stats.window_propagations
-        );
-        assert!(stats.peak_live_windows > 0);
-        assert_eq!(
-            stats.peak_window_bytes,
-            stats.peak_live_windows * std::mem::size_of::<geodesics_window::EndedWindow>() as u64
-        );
+        assert_windows_counted(&stats);
         assert_eq!(stats.vertex_pops as usize, mesh.vertex_count());
         assert!(stats.total_seconds > 0.0);
     }
@@ -460,17 +465,7 @@ mod tests {
             ..PvtpOptions::default()
         };
         let (_, stats) = solve(&mesh, &[Source::Vertex(0)], &options).unwrap();
-        assert!(stats.window_propagations > 0);
-        assert!(stats.windows_created >= stats.window_propagations);
-        assert_eq!(
-            stats.prime_propagations + stats.secondary_propagations,
-            stats.window_propagations
-        );
-        assert!(stats.peak_live_windows > 0);
-        assert_eq!(
-            stats.peak_window_bytes,
-            stats.peak_live_windows * std::mem::size_of::<geodesics_window::EndedWindow>() as u64
-        );
+        assert_windows_counted(&stats);
         // Every vertex is popped once per region holding a copy of it.
         assert!(stats.vertex_pops as usize >= mesh.vertex_count());
         assert!(stats.parallel_phases > 0);
