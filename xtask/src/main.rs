@@ -17,7 +17,8 @@
 //!   λ from 2 to 128 against exact VTP in the same run, on the same meshes,
 //!   with PAVTP at T=2 against AVTP (over all rounds, and over those the
 //!   cores' slow periods missed: see `cores.rs`).
-//! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, T = 1, 2, …
+//! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, both
+//!   schedules (the paper's rounds and the regions), T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
 //!   Loop-subdivided bunnies and the welded dragon, with the time each solve
 //!   spends outside its parallel phases (what bounds the speed-up), T
