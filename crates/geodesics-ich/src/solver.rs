@@ -280,16 +280,8 @@ impl<'a> Solver<'a> {
         match self.kind[Mesh::face_of(h) as usize] {
             FaceKind::Proper => {}
             FaceKind::Zipper => {
-                if mesh.length(h) > 0.0 {
-                    let n = Mesh::next(h);
-                    let other = if mesh.length(n) > 0.0 {
-                        n
-                    } else {
-                        Mesh::prev(h)
-                    };
-                    if let Some(t) = mesh.twin(other) {
-                        self.push_window(w, t, third);
-                    }
+                if let Some(t) = mesh.zipper_exit(h).and_then(|g| mesh.twin(g)) {
+                    self.push_window(w, t, third);
                 }
                 return;
             }

@@ -224,6 +224,24 @@ impl Mesh {
         self.face_kind[f as usize]
     }
 
+    /// Where a window entering a [`FaceKind::Zipper`] face along `h`
+    /// leaves it: the face's other edge of positive length (the two long
+    /// edges are one segment with identical frames, so the window crosses
+    /// unchanged). `None` when `h` is the zero-length edge.
+    #[inline]
+    pub fn zipper_exit(&self, h: u32) -> Option<u32> {
+        if self.length(h) > 0.0 {
+            let n = Self::next(h);
+            Some(if self.length(n) > 0.0 {
+                n
+            } else {
+                Self::prev(h)
+            })
+        } else {
+            None
+        }
+    }
+
     /// Whether building flipped face `f` to orient its component
     /// consistently: the input's corners `[a, b, c]` are then `[a, c, b]`.
     #[inline]

@@ -85,6 +85,13 @@ fn apex_is_the_opposite_corner_in_the_half_edge_frame() {
     // The zero-length half-edge maps everything to its tail.
     let zero = (3..6).find(|&h| mesh.length(h) == 0.0).unwrap();
     assert_eq!(mesh.apex(zero), glam::DVec2::ZERO);
+    // The needle is a zipper: entering along one long edge, a window
+    // leaves along the other; along the zero-length edge, nowhere.
+    assert_eq!(mesh.face_kind(1), geodesics_mesh::FaceKind::Zipper);
+    assert_eq!(mesh.zipper_exit(zero), None);
+    let long: Vec<u32> = (3..6).filter(|&h| h != zero).collect();
+    assert_eq!(mesh.zipper_exit(long[0]), Some(long[1]));
+    assert_eq!(mesh.zipper_exit(long[1]), Some(long[0]));
 }
 
 #[test]

@@ -514,16 +514,8 @@ impl<'a> Solver<'a> {
                 }
             }
             FaceKind::Zipper => {
-                if mesh.length(h) > 0.0 {
-                    let n = Mesh::next(h);
-                    let other = if mesh.length(n) > 0.0 {
-                        n
-                    } else {
-                        Mesh::prev(h)
-                    };
-                    if let Some(t) = mesh.twin(other) {
-                        self.insert(t, &w, id, NONE);
-                    }
+                if let Some(t) = mesh.zipper_exit(h).and_then(|g| mesh.twin(g)) {
+                    self.insert(t, &w, id, NONE);
                 }
             }
             FaceKind::Blocked => {}

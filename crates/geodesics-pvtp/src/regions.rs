@@ -1096,16 +1096,8 @@ impl Region {
                 // One edge of length zero: the windows pass on to the twin
                 // of the other long edge, as in VTP.
                 let mesh = shared.mesh;
-                if mesh.length(h) > 0.0 {
-                    let n = Mesh::next(h);
-                    let other = if mesh.length(n) > 0.0 {
-                        n
-                    } else {
-                        Mesh::prev(h)
-                    };
-                    if let Some(t) = mesh.twin(other) {
-                        self.send(shared, t, &mut list[..]);
-                    }
+                if let Some(t) = mesh.zipper_exit(h).and_then(|g| mesh.twin(g)) {
+                    self.send(shared, t, &mut list[..]);
                 }
             }
             FaceKind::Blocked => {}

@@ -538,13 +538,7 @@ fn run_job(sh: &Shared<'_>, job: &JobIn, s: &mut Scratch, out: &mut JobOut) {
         match kind {
             FaceKind::Proper => cross(sh, h, i, &list, &mut d, s, out),
             FaceKind::Zipper => {
-                if mesh.length(h) > 0.0 {
-                    let n = Mesh::next(h);
-                    let other = if mesh.length(n) > 0.0 {
-                        n
-                    } else {
-                        Mesh::prev(h)
-                    };
+                if let Some(other) = mesh.zipper_exit(h) {
                     let bound = &mut s.beyond[(other - 3 * f) as usize];
                     for &w in list.iter() {
                         bound.push(w);

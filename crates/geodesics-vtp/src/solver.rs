@@ -676,16 +676,8 @@ impl<'a> Solver<'a> {
         match self.face_kind(f) {
             FaceKind::Proper => self.cross(h, &list, scratch),
             FaceKind::Zipper => {
-                if mesh.length(h) > 0.0 {
-                    let n = Mesh::next(h);
-                    let other = if mesh.length(n) > 0.0 {
-                        n
-                    } else {
-                        Mesh::prev(h)
-                    };
-                    if let Some(t) = mesh.twin(other) {
-                        self.append(t, [mesh.tail(t), mesh.head(t)], &mut list[..]);
-                    }
+                if let Some(t) = mesh.zipper_exit(h).and_then(|g| mesh.twin(g)) {
+                    self.append(t, [mesh.tail(t), mesh.head(t)], &mut list[..]);
                 }
             }
             FaceKind::Blocked => {}
