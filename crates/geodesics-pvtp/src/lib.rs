@@ -33,9 +33,9 @@
 //! that grows band by band (Du et al.'s buckets); windows and distances
 //! that cross into another region are delayed to the next band and read
 //! in a fixed order, so the result is the same bits for every thread
-//! count. On 2 CPUs it scales better than the rounds (1.76–1.85× against
-//! 1.6–1.67× on 235K–280K faces) but is about a tenth slower than VTP on
-//! one thread, so both reach about 1.5× VTP on two; PAVTP
+//! count. On 2 CPUs it scales better than the rounds (1.82–1.92× against
+//! 1.56–1.67× on 235K–871K faces) but is 15–33 % slower than VTP on one
+//! thread, so both reach about 1.4–1.5× VTP on two; PAVTP
 //! (`geodesics-avtp`) runs on it.
 //!
 //! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
@@ -139,8 +139,8 @@ pub enum Schedule {
     /// to a distance bound that grows band by band; windows and distances
     /// crossing into another region are delayed to the next band. No
     /// one-thread part between bands, so it scales further and suffers
-    /// less when the cores talk slowly; about a tenth slower than VTP on
-    /// one thread. The same bits for every thread count.
+    /// less when the cores talk slowly; 15–33 % slower than VTP on one
+    /// thread. The same bits for every thread count.
     Regions,
 }
 
