@@ -376,4 +376,5 @@ fn a_solve_without_propagations_prints_no_time_per_propagation() {
     let stdout = ok(&geodesics(&["distance", s(&mesh), "-o", s(&out)]));
     assert!(stdout.contains(" 0 window propagations, "), "{stdout}");
     assert!(!stdout.contains("ns each"), "{stdout}");
+    std::fs::remove_dir_all(dir).unwrap();
 }
