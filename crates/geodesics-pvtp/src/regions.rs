@@ -47,10 +47,14 @@ use crate::crew::Crew;
 use crate::solver::{cell_index, lock, read, step_windows, write};
 
 /// Region size, in mean edge lengths per side of a cube. Smaller regions
-/// balance two threads better but copy more vertices (on the coarse
-/// Loop×3 bunny: 16 edges 9 % more vertex records than 32, and slower;
-/// 48 no faster).
-pub(crate) const REGION_CELL_EDGES: f64 = 32.0;
+/// balance two threads better but copy more vertices and pass more mail.
+/// On 2 CPUs, T=2 against VTP in one run (coarse Loop×3 bunny, Loop×1
+/// bunny, welded dragon): 32 edges 1.49, 1.38, 1.40×; 64 edges 1.59,
+/// 1.55, 1.51× (one thread 1.18–1.25× VTP's time, against 1.20–1.44× at
+/// 32); PAVTP at λ = 8 on 70K–280K faces 1.07–1.16× AVTP against
+/// 0.90–1.12×. 96 and 128 were no faster and uneven (1.31× on the
+/// coarse bunny at 96: too few regions per band to share).
+pub(crate) const REGION_CELL_EDGES: f64 = 64.0;
 
 /// How far the bound moves per band, in mean edge lengths: narrower bands
 /// waste fewer windows, wider ones cost fewer hand-overs (on the coarse
@@ -111,8 +115,12 @@ struct Region {
     /// Slots lowered in this band that have copies elsewhere.
     dirty: Vec<u32>,
     is_dirty: Vec<bool>,
-    /// Windows for other regions' half-edges (global numbers), in order.
-    out_windows: Vec<(u32, EndedWindow)>,
+    /// This band's windows for other regions' half-edges, one letter per
+    /// receiving region; the letter last written to; emptied letters
+    /// kept for their buffers.
+    letters: Vec<Letter>,
+    last_letter: usize,
+    spare_letters: Vec<Letter>,
     /// The sources' windows, merged in the first band.
     seed_windows: Vec<(u32, EndedWindow)>,
     /// AVTP: slots reached while outside (the wavefront), those reset,
@@ -125,7 +133,6 @@ struct Region {
     left: Vec<EndedWindow>,
     right: Vec<EndedWindow>,
     rays: Vec<(u32, Option<(f64, f64)>)>,
-    incoming: Vec<EndedWindow>,
     /// Scratch: the regions this one mails, and those that mailed it.
     mailed: Vec<u32>,
     senders: Vec<u32>,
@@ -155,11 +162,22 @@ struct Shared<'a> {
     local_face: Vec<u32>,
 }
 
-/// A region's mail of one band, sorted by receiving region.
+/// The windows one region sends another in a band, in the order it made
+/// them. They are handed over, not copied: the receiver merges them from
+/// the sender's outbox.
+#[derive(Default)]
+struct Letter {
+    to: u32,
+    /// Per window: the receiver's half-edge (global number).
+    half_edges: Vec<u32>,
+    windows: Vec<EndedWindow>,
+}
+
+/// A region's mail of one band.
 #[derive(Default)]
 struct Outbox {
-    /// `(region, global half-edge, window)`.
-    windows: Vec<(u32, u32, EndedWindow)>,
+    /// One letter per receiving region, in no particular order.
+    letters: Vec<Letter>,
     /// `(region, slot, distance, source, arrival)`.
     distances: Vec<(u32, u32, f64, u32, Arrival)>,
 }
@@ -408,18 +426,39 @@ fn build<'a>(
         .into_par_iter()
         .map(|f| keys[mesh.tail(3 * f) as usize])
         .collect();
-    let mut distinct = face_key.clone();
+    // Faces are numbered for locality, so runs of faces share a cube:
+    // only the first face of each run adds its key to be sorted, and a
+    // face looks its region up only when its key differs from the last.
+    const CHUNK: usize = 4096;
+    let mut distinct: Vec<u64> = face_key
+        .par_chunks(CHUNK)
+        .flat_map_iter(|chunk| {
+            chunk
+                .iter()
+                .enumerate()
+                .filter(|&(i, k)| i == 0 || chunk[i - 1] != *k)
+                .map(|(_, &k)| k)
+        })
+        .collect();
     distinct.par_sort_unstable();
     distinct.dedup();
     let nr = distinct.len();
-    let region_of_face: Vec<u32> = face_key
-        .par_iter()
-        .map(|k| {
-            distinct
-                .binary_search(k)
-                .expect("every face's key is among the distinct keys") as u32
-        })
-        .collect();
+    let mut region_of_face = vec![0u32; nf];
+    region_of_face
+        .par_chunks_mut(CHUNK)
+        .zip(face_key.par_chunks(CHUNK))
+        .for_each(|(regions, keys)| {
+            let mut last = (u64::MAX, 0);
+            for (r, &k) in regions.iter_mut().zip(keys) {
+                if k != last.0 {
+                    let found = distinct
+                        .binary_search(&k)
+                        .expect("every face's key is among the distinct keys");
+                    last = (k, found as u32);
+                }
+                *r = last.1;
+            }
+        });
     // The faces of each region, in face order.
     let mut start = vec![0u32; nr + 1];
     for &r in &region_of_face {
@@ -543,7 +582,9 @@ fn build<'a>(
                 fifo: Vec::new(),
                 dirty: Vec::new(),
                 is_dirty: vec![false; n],
-                out_windows: Vec::new(),
+                letters: Vec::new(),
+                last_letter: 0,
+                spare_letters: Vec::new(),
                 seed_windows: Vec::new(),
                 resets,
                 front: Vec::new(),
@@ -553,7 +594,6 @@ fn build<'a>(
                 left: Vec::new(),
                 right: Vec::new(),
                 rays: Vec::new(),
-                incoming: Vec::new(),
                 mailed: Vec::new(),
                 senders: Vec::new(),
                 merge: MergeBuffers::default(),
@@ -705,7 +745,7 @@ fn work(
             region.reset(guard);
         }
         region.run(shared, band.bound);
-        region.flush(shared, post, band.index);
+        region.flush(post, band.index);
         let c = region.counts;
         drop(region);
         post.load[r].store(
@@ -791,7 +831,7 @@ impl Region {
         for pass in 0..2 {
             for &q in &senders {
                 // Written in the last band: q listed itself as it wrote it.
-                let outbox = lock(&post.out[q as usize][parity]);
+                let mut outbox = lock(&post.out[q as usize][parity]);
                 if pass == 0 {
                     let ds = &outbox.distances;
                     let a = ds.partition_point(|m| m.0 < me);
@@ -801,22 +841,20 @@ impl Region {
                     }
                     continue;
                 }
-                let ws = &outbox.windows;
-                let (a, b) = (
-                    ws.partition_point(|m| m.0 < me),
-                    ws.partition_point(|m| m.0 <= me),
-                );
-                let mut i = a;
-                while i < b {
+                let Some(letter) = outbox.letters.iter_mut().find(|l| l.to == me) else {
+                    continue;
+                };
+                let n = letter.windows.len();
+                let mut i = 0;
+                while i < n {
                     // The windows for one half-edge go in with one merge.
-                    let t = ws[i].1;
-                    let j = i + ws[i..b].iter().take_while(|m| m.1 == t).count();
-                    let mut incoming = std::mem::take(&mut self.incoming);
-                    incoming.clear();
-                    incoming.extend(ws[i..j].iter().map(|m| m.2));
+                    let t = letter.half_edges[i];
+                    let j = i + letter.half_edges[i..]
+                        .iter()
+                        .take_while(|&&u| u == t)
+                        .count();
                     let lt = 3 * shared.local_face[(t / 3) as usize] + t % 3;
-                    self.append(lt, &mut incoming);
-                    self.incoming = incoming;
+                    self.append(lt, &mut letter.windows[i..j]);
                     i = j;
                 }
             }
@@ -1012,8 +1050,31 @@ impl Region {
         if shared.region_of_face[f] as usize == self.index {
             self.append(3 * shared.local_face[f] + t % 3, windows);
         } else {
-            self.out_windows.extend(windows.iter().map(|&w| (t, w)));
+            let letter = self.letter_to(shared.region_of_face[f]);
+            letter
+                .half_edges
+                .extend(std::iter::repeat_n(t, windows.len()));
+            letter.windows.extend_from_slice(windows);
         }
+    }
+
+    /// This band's letter to region `to`, started if there is none.
+    #[inline]
+    fn letter_to(&mut self, to: u32) -> &mut Letter {
+        let k = match self.letters.get(self.last_letter) {
+            Some(l) if l.to == to => self.last_letter,
+            _ => match self.letters.iter().position(|l| l.to == to) {
+                Some(k) => k,
+                None => {
+                    let mut letter = self.spare_letters.pop().unwrap_or_default();
+                    letter.to = to;
+                    self.letters.push(letter);
+                    self.letters.len() - 1
+                }
+            },
+        };
+        self.last_letter = k;
+        &mut self.letters[k]
     }
 
     /// Pseudo-source slot `s` (Section 5.2 of Qin et al.): relaxes its
@@ -1172,19 +1233,21 @@ impl Region {
         self.right = right;
     }
 
-    /// Writes this band's mail (sorted by receiving region, stable) and
-    /// what the driving thread reads.
-    fn flush(&mut self, shared: &Shared<'_>, post: &Post, band: u64) {
+    /// Hands this band's letters over, writes the lowered distances
+    /// (sorted by receiving region, stable) and what the driving thread
+    /// reads.
+    fn flush(&mut self, post: &Post, band: u64) {
         let parity = (band % 2) as usize;
         let mut outbox = lock(&post.out[self.index][parity]);
-        outbox.windows.clear();
         outbox.distances.clear();
-        outbox.windows.extend(
-            self.out_windows
-                .drain(..)
-                .map(|(t, w)| (shared.region_of_face[(t / 3) as usize], t, w)),
-        );
-        outbox.windows.sort_by_key(|m| m.0);
+        // The letters read in the last band go back to the spares.
+        std::mem::swap(&mut outbox.letters, &mut self.letters);
+        for mut letter in self.letters.drain(..) {
+            letter.half_edges.clear();
+            letter.windows.clear();
+            self.spare_letters.push(letter);
+        }
+        self.last_letter = 0;
         let mut least = f64::INFINITY;
         for &s in &self.dirty {
             self.is_dirty[s as usize] = false;
@@ -1206,7 +1269,7 @@ impl Region {
         // Each receiver once (it may have both windows and distances).
         let mut mailed = std::mem::take(&mut self.mailed);
         mailed.clear();
-        mailed.extend(outbox.windows.iter().map(|m| m.0));
+        mailed.extend(outbox.letters.iter().map(|l| l.to));
         mailed.extend(outbox.distances.iter().map(|m| m.0));
         mailed.sort_unstable();
         mailed.dedup();
