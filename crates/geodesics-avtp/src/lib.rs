@@ -36,9 +36,9 @@
 //! region resets its own wavefront vertices before the next band. The
 //! result is the same bits for every thread count (and, like AVTP, never
 //! below exact); it differs from sequential AVTP's in the last digits of
-//! the error only (mean error 7.57e-4 against 7.64e-4 on the coarse Loop×3
-//! bunny at λ = 8). On 2 CPUs it ran at 1.07–1.20× AVTP's speed at λ = 8
-//! on meshes of 86K–280K faces (0.87× on bunny.off's 70K);
+//! the error only (mean error 7.63e-4 against 7.64e-4 on the coarse Loop×3
+//! bunny at λ = 8). On 2 CPUs it ran at 1.20–1.30× AVTP's speed at λ = 8
+//! on meshes of 70K–280K faces (1.4–1.6× at λ = 32–128);
 //! PVTP's rounds, which it used before, ran at 0.7–0.9×: their one-thread
 //! part cost about what AVTP's whole solve does.
 //!
@@ -160,7 +160,7 @@ pub fn solve(
                 progress: options.progress.clone(),
                 // Regions, not rounds: at λ = 8 the rounds' one-thread part
                 // cost about what AVTP's whole solve does (PAVTP at 0.8×
-                // AVTP on 2 CPUs); the regions have none (1.07–1.20×).
+                // AVTP on 2 CPUs); the regions have none (1.20–1.30×).
                 schedule: Schedule::Regions,
             };
             Ok(geodesics_pvtp::solve(mesh, sources, &pvtp)?)
