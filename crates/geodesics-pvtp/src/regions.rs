@@ -67,6 +67,14 @@ const NONE: u32 = u32::MAX;
 /// index its list in the region's pool, `NO_LIST` for none (as in VTP).
 const QUEUED: u32 = 1 << 31;
 const NO_LIST: u32 = QUEUED - 1;
+/// Where the entry pop of a local face sits in its record.
+const ENTERED: usize = 3;
+
+/// The list word of local half-edge `lh` in the face records.
+#[inline]
+fn list_word(faces: &mut [[u32; 4]], lh: u32) -> &mut u32 {
+    &mut faces.as_flattened_mut()[(lh + lh / 3) as usize]
+}
 /// A pop's weight against a propagation in a region's work estimate (which
 /// orders the next band's regions, busiest first): about their costs in
 /// VTP, ~440 ns per vertex (popping, entering the fan, emitting) against
@@ -102,10 +110,11 @@ struct Region {
     index: usize,
     lay: Layout,
     tol: Tolerance,
-    lists: Vec<u32>,
-    /// Per local face: the pop (`counts.pops`) at which it was entered,
-    /// or `NONE`.
-    entered: Vec<u32>,
+    /// Per local face: the list words of its half-edges `3f + i` and, at
+    /// [`ENTERED`], the pop (`counts.pops`) at which it was entered, or
+    /// `NONE`; together, as VTP keeps them, since entering a face reads
+    /// all four and crossing one reads its word and the entry pop.
+    faces: Vec<[u32; 4]>,
     pool: Vec<Vec<EndedWindow>>,
     free: Vec<u32>,
     slots: Vec<VertexState>,
@@ -153,13 +162,21 @@ struct Counts {
     live: u64,
 }
 
+/// Where a face is laid out: its region and its local number there (one
+/// record, as every crossing that leaves a face reads both).
+#[derive(Clone, Copy, Default)]
+struct FacePlace {
+    region: u32,
+    local: u32,
+}
+
 /// Read-only during bands.
 struct Shared<'a> {
     mesh: &'a Mesh,
     kind: Vec<FaceKind>,
     max_distance: f64,
-    region_of_face: Vec<u32>,
-    local_face: Vec<u32>,
+    /// Per face: its region and its number there.
+    place: Vec<FacePlace>,
 }
 
 /// The windows one region sends another in a band, in the order it made
@@ -244,7 +261,7 @@ pub(crate) fn solve(
         }
         for &(t, w) in &seeds.windows {
             created += 1;
-            let r = shared.region_of_face[(t / 3) as usize] as usize;
+            let r = shared.place[(t / 3) as usize].region as usize;
             regions[r].seed_windows.push((t, EndedWindow::new(w)));
         }
     }
@@ -467,14 +484,16 @@ fn build<'a>(
     for i in 0..nr {
         start[i + 1] += start[i];
     }
-    let mut local_face = vec![0u32; nf];
+    let mut place = vec![FacePlace::default(); nf];
     let mut by_region = vec![0u32; nf];
     let mut fill = start.clone();
     for (f, &r) in region_of_face.iter().enumerate() {
-        let r = r as usize;
-        local_face[f] = fill[r] - start[r];
-        by_region[fill[r] as usize] = f as u32;
-        fill[r] += 1;
+        place[f] = FacePlace {
+            region: r,
+            local: fill[r as usize] - start[r as usize],
+        };
+        by_region[fill[r as usize] as usize] = f as u32;
+        fill[r as usize] += 1;
     }
     let faces_of = |r: usize| &by_region[start[r] as usize..start[r + 1] as usize];
     // Per region: a slot per vertex, numbered as the faces meet them.
@@ -569,8 +588,7 @@ fn build<'a>(
             Region {
                 index: r,
                 tol,
-                lists: vec![NO_LIST; 3 * nlf],
-                entered: vec![NONE; nlf],
+                faces: vec![[NO_LIST, NO_LIST, NO_LIST, NONE]; nlf],
                 pool: Vec::new(),
                 free: Vec::new(),
                 slots: slot_vertex
@@ -616,8 +634,7 @@ fn build<'a>(
         mesh,
         kind: setup.kind,
         max_distance: options.max_distance.unwrap_or(f64::INFINITY),
-        region_of_face,
-        local_face,
+        place,
     };
     (shared, regions, copies)
 }
@@ -814,7 +831,7 @@ impl Region {
     fn receive(&mut self, shared: &Shared<'_>, post: &Post, band: u64) {
         let seeds = std::mem::take(&mut self.seed_windows);
         for &(t, w) in &seeds {
-            let lt = 3 * shared.local_face[(t / 3) as usize] + t % 3;
+            let lt = 3 * shared.place[(t / 3) as usize].local + t % 3;
             self.append(lt, &mut [w]);
         }
         let Some(last) = band.checked_sub(1) else {
@@ -853,7 +870,7 @@ impl Region {
                         .iter()
                         .take_while(|&&u| u == t)
                         .count();
-                    let lt = 3 * shared.local_face[(t / 3) as usize] + t % 3;
+                    let lt = 3 * shared.place[(t / 3) as usize].local + t % 3;
                     self.append(lt, &mut letter.windows[i..j]);
                     i = j;
                 }
@@ -898,14 +915,14 @@ impl Region {
             if !(on_front(lh % 3) && on_front(lh % 3 + 1)) {
                 continue;
             }
-            let word = self.lists[lh as usize];
-            let idx = word & !QUEUED;
+            let word = list_word(&mut self.faces, lh);
+            let idx = *word & !QUEUED;
             if idx != NO_LIST {
+                *word = NO_LIST | (*word & QUEUED);
                 let list = &mut self.pool[idx as usize];
                 self.counts.live -= list.len() as u64;
                 list.clear();
                 self.free.push(idx);
-                self.lists[lh as usize] = NO_LIST | (word & QUEUED);
             }
         }
         check.clear();
@@ -943,8 +960,9 @@ impl Region {
                 );
                 for k in a..b {
                     let lf = self.lay.fan[k as usize];
-                    if self.entered[lf as usize] == NONE {
-                        self.entered[lf as usize] = self.counts.pops as u32;
+                    let record = &mut self.faces[lf as usize];
+                    if record[ENTERED] == NONE {
+                        record[ENTERED] = self.counts.pops as u32;
                     }
                     for i in 0..3 {
                         self.queue(3 * lf + i);
@@ -972,7 +990,7 @@ impl Region {
             );
             for &lf in &self.lay.fan[a as usize..b as usize] {
                 shared.mesh.prefetch_face(self.lay.faces[lf as usize]);
-                geodesics_mesh::prefetch(&self.lists, 3 * lf as usize);
+                geodesics_mesh::prefetch(&self.faces, lf as usize);
             }
             geodesics_mesh::prefetch(&self.slots, u as usize);
         }
@@ -981,7 +999,7 @@ impl Region {
 
     #[inline]
     fn queue(&mut self, lh: u32) {
-        let word = &mut self.lists[lh as usize];
+        let word = list_word(&mut self.faces, lh);
         if *word & QUEUED == 0 && *word != NO_LIST {
             *word |= QUEUED;
             self.fifo.push(lh);
@@ -1004,7 +1022,7 @@ impl Region {
         if windows.is_empty() {
             return;
         }
-        let word = self.lists[lh as usize];
+        let word = *list_word(&mut self.faces, lh);
         let mut idx = word & !QUEUED;
         if idx == NO_LIST {
             idx = self.free.pop().unwrap_or_else(|| {
@@ -1013,7 +1031,7 @@ impl Region {
                 assert!(i < NO_LIST as usize, "fewer window lists than 2^31 - 1");
                 i as u32
             });
-            self.lists[lh as usize] = idx | (word & QUEUED);
+            *list_word(&mut self.faces, lh) = idx | (word & QUEUED);
         }
         let list = &mut self.pool[idx as usize];
         let before = list.len() as u64;
@@ -1021,8 +1039,8 @@ impl Region {
         let after = list.len() as u64;
         self.counts.live = self.counts.live + after - before;
         if after == 0 {
-            let word = self.lists[lh as usize];
-            self.lists[lh as usize] = NO_LIST | (word & QUEUED);
+            let word = list_word(&mut self.faces, lh);
+            *word = NO_LIST | (*word & QUEUED);
             self.free.push(idx);
             return;
         }
@@ -1046,11 +1064,11 @@ impl Region {
         if windows.is_empty() {
             return;
         }
-        let f = (t / 3) as usize;
-        if shared.region_of_face[f] as usize == self.index {
-            self.append(3 * shared.local_face[f] + t % 3, windows);
+        let place = shared.place[(t / 3) as usize];
+        if place.region as usize == self.index {
+            self.append(3 * place.local + t % 3, windows);
         } else {
-            let letter = self.letter_to(shared.region_of_face[f]);
+            let letter = self.letter_to(place.region);
             letter
                 .half_edges
                 .extend(std::iter::repeat_n(t, windows.len()));
@@ -1101,10 +1119,11 @@ impl Region {
         rays.extend(Shadow::fan_rays(shadow, mesh, fan));
         for &(h, ray) in &rays {
             let f = Mesh::face_of(h);
-            if shared.region_of_face[f as usize] as usize != self.index {
+            let place = shared.place[f as usize];
+            if place.region as usize != self.index {
                 continue;
             }
-            let c = self.lay.face_slots[shared.local_face[f as usize] as usize];
+            let c = self.lay.face_slots[place.local as usize];
             // The vertex is corner h % 3 of the face; a and b follow it.
             let (sa, sb) = (c[((h + 1) % 3) as usize], c[((h + 2) % 3) as usize]);
             let [(_, la, back_a), (_, lb, back_b)] = corner_neighbours(mesh, h);
@@ -1133,9 +1152,7 @@ impl Region {
 
     /// Propagates the list of local half-edge `lh` through its face.
     fn process(&mut self, shared: &Shared<'_>, lh: u32) {
-        let word = self.lists[lh as usize];
-        self.lists[lh as usize] = NO_LIST;
-        let idx = word & !QUEUED;
+        let idx = std::mem::replace(list_word(&mut self.faces, lh), NO_LIST) & !QUEUED;
         if idx == NO_LIST {
             return;
         }
@@ -1170,9 +1187,9 @@ impl Region {
         let p = Mesh::prev(h);
         let (beyond_left, beyond_right) = (mesh.twin(p), mesh.twin(n));
         for t in [beyond_left, beyond_right].into_iter().flatten() {
-            let ft = (t / 3) as usize;
-            if shared.region_of_face[ft] as usize == self.index {
-                geodesics_mesh::prefetch(&self.lists, (3 * shared.local_face[ft] + t % 3) as usize);
+            let place = shared.place[(t / 3) as usize];
+            if place.region as usize == self.index {
+                geodesics_mesh::prefetch(&self.faces, place.local as usize);
             }
         }
         let c = self.lay.face_slots[lf as usize];
@@ -1218,7 +1235,7 @@ impl Region {
         );
         self.counts.props += props;
         self.counts.created += props;
-        if self.entered[lf as usize] == self.counts.pops as u32 {
+        if self.faces[lf as usize][ENTERED] == self.counts.pops as u32 {
             self.counts.prime += props;
         }
         self.info = info;
