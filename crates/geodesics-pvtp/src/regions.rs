@@ -174,6 +174,8 @@ struct FacePlace {
 struct Shared<'a> {
     mesh: &'a Mesh,
     kind: Vec<FaceKind>,
+    /// Every face is proper (no zero-area face): `kind` need not be read.
+    all_proper: bool,
     max_distance: f64,
     /// Per face: its region and its number there.
     place: Vec<FacePlace>,
@@ -632,6 +634,7 @@ fn build<'a>(
         .collect();
     let shared = Shared {
         mesh,
+        all_proper: setup.kind.iter().all(|&k| k == FaceKind::Proper),
         kind: setup.kind,
         max_distance: options.max_distance.unwrap_or(f64::INFINITY),
         place,
@@ -832,7 +835,7 @@ impl Region {
         let seeds = std::mem::take(&mut self.seed_windows);
         for &(t, w) in &seeds {
             let lt = 3 * shared.place[(t / 3) as usize].local + t % 3;
-            self.append(lt, &mut [w]);
+            self.append(lt, self.ends_of(lt), &mut [w]);
         }
         let Some(last) = band.checked_sub(1) else {
             return;
@@ -871,7 +874,7 @@ impl Region {
                         .take_while(|&&u| u == t)
                         .count();
                     let lt = 3 * shared.place[(t / 3) as usize].local + t % 3;
-                    self.append(lt, &mut letter.windows[i..j]);
+                    self.append(lt, self.ends_of(lt), &mut letter.windows[i..j]);
                     i = j;
                 }
             }
@@ -1015,10 +1018,18 @@ impl Region {
         self.fifo.clear();
     }
 
-    /// Merges `windows` into the list of local half-edge `lh` (Rules 2
-    /// and 3) and queues it if an end was passed, as VTP's `append`.
+    /// The slots at the ends of local half-edge `lh`.
+    #[inline]
+    fn ends_of(&self, lh: u32) -> [u32; 2] {
+        let c = self.lay.face_slots[(lh / 3) as usize];
+        [c[(lh % 3) as usize], c[((lh + 1) % 3) as usize]]
+    }
+
+    /// Merges `windows` into the list of local half-edge `lh`, whose ends
+    /// are slots `ends` (Rules 2 and 3), and queues it if an end was
+    /// passed, as VTP's `append`.
     #[inline(always)]
-    fn append(&mut self, lh: u32, windows: &mut [EndedWindow]) {
+    fn append(&mut self, lh: u32, ends: [u32; 2], windows: &mut [EndedWindow]) {
         if windows.is_empty() {
             return;
         }
@@ -1044,10 +1055,11 @@ impl Region {
             self.free.push(idx);
             return;
         }
-        let c = self.lay.face_slots[(lh / 3) as usize];
-        let (a, b) = (
-            c[(lh % 3) as usize] as usize,
-            c[((lh + 1) % 3) as usize] as usize,
+        let [a, b] = ends.map(|s| s as usize);
+        debug_assert_eq!(
+            [a, b].map(|s| s as u32),
+            self.ends_of(lh),
+            "the caller's ends are the half-edge's"
         );
         if self.resets && self.is_reset[a] && self.is_reset[b] {
             self.grown.push(lh);
@@ -1058,15 +1070,25 @@ impl Region {
     }
 
     /// Windows for global half-edge `t`: into its list if its face is this
-    /// region's, else into the mail.
+    /// region's, else into the mail. `ends`: the slots of its ends when
+    /// the caller knows them (a region has one slot per vertex, so the
+    /// ends of the edge just crossed are the ends of its twin here too).
     #[inline(always)]
-    fn send(&mut self, shared: &Shared<'_>, t: u32, windows: &mut [EndedWindow]) {
+    fn send(
+        &mut self,
+        shared: &Shared<'_>,
+        t: u32,
+        ends: Option<[u32; 2]>,
+        windows: &mut [EndedWindow],
+    ) {
         if windows.is_empty() {
             return;
         }
         let place = shared.place[(t / 3) as usize];
         if place.region as usize == self.index {
-            self.append(3 * place.local + t % 3, windows);
+            let lt = 3 * place.local + t % 3;
+            let ends = ends.unwrap_or_else(|| self.ends_of(lt));
+            self.append(lt, ends, windows);
         } else {
             let letter = self.letter_to(place.region);
             letter
@@ -1129,7 +1151,7 @@ impl Region {
             let [(_, la, back_a), (_, lb, back_b)] = corner_neighbours(mesh, h);
             self.lower(sa, d + la, src, back_a);
             self.lower(sb, d + lb, src, back_b);
-            if shared.kind[f as usize] != FaceKind::Proper {
+            if !shared.all_proper && shared.kind[f as usize] != FaceKind::Proper {
                 continue;
             }
             let Some((t, w)) = ray.and_then(|r| pseudo_source_window(mesh, h, d, src, r)) else {
@@ -1145,7 +1167,7 @@ impl Region {
                     continue;
                 }
             }
-            self.send(shared, t, &mut [w]);
+            self.send(shared, t, Some([sb, sa]), &mut [w]);
         }
         self.rays = rays;
     }
@@ -1161,14 +1183,19 @@ impl Region {
         let lf = lh / 3;
         let f = self.lay.faces[lf as usize];
         let h = 3 * f + lh % 3;
-        match shared.kind[f as usize] {
+        let kind = if shared.all_proper {
+            FaceKind::Proper
+        } else {
+            shared.kind[f as usize]
+        };
+        match kind {
             FaceKind::Proper => self.cross(shared, lh, h, &list),
             FaceKind::Zipper => {
                 // One edge of length zero: the windows pass on to the twin
                 // of the other long edge, as in VTP.
                 let mesh = shared.mesh;
                 if let Some(t) = mesh.zipper_exit(h).and_then(|g| mesh.twin(g)) {
-                    self.send(shared, t, &mut list[..]);
+                    self.send(shared, t, None, &mut list[..]);
                 }
             }
             FaceKind::Blocked => {}
@@ -1241,10 +1268,10 @@ impl Region {
         self.info = info;
         // Beyond C → A and beyond B → C.
         if let Some(t) = beyond_left {
-            self.send(shared, t, &mut left[..n_left]);
+            self.send(shared, t, Some([sa, sc]), &mut left[..n_left]);
         }
         if let Some(t) = beyond_right {
-            self.send(shared, t, &mut right[..n_right]);
+            self.send(shared, t, Some([sc, sb]), &mut right[..n_right]);
         }
         self.left = left;
         self.right = right;
