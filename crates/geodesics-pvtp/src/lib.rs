@@ -33,10 +33,10 @@
 //! that grows band by band (Du et al.'s buckets); windows and distances
 //! that cross into another region are delayed to the next band and read
 //! in a fixed order, so the result is the same bits for every thread
-//! count. On 2 CPUs it scales better than the rounds (1.78–1.85× against
-//! 1.26–1.74× on 235K–871K faces, `cargo xtask pvtp`) but is 9–18 %
-//! slower than VTP on one thread, so it reaches 1.59–1.67× VTP on two
-//! (the rounds 1.20–1.47×); PAVTP (`geodesics-avtp`) runs on it.
+//! count. On 2 CPUs it scales better than the rounds (1.84–1.90× against
+//! 1.58–1.64× on 235K–871K faces, `cargo xtask pvtp`) but is 10–18 %
+//! slower than VTP on one thread, so it reaches 1.63–1.68× VTP on two
+//! (the rounds 1.48–1.52×); PAVTP (`geodesics-avtp`) runs on it.
 //!
 //! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
 //! and the sources are pseudo-sources as in VTP: they emit windows when
@@ -139,7 +139,7 @@ pub enum Schedule {
     /// to a distance bound that grows band by band; windows and distances
     /// crossing into another region are delayed to the next band. No
     /// one-thread part between bands, so it scales further and suffers
-    /// less when the cores talk slowly; 9–18 % slower than VTP on one
+    /// less when the cores talk slowly; 10–18 % slower than VTP on one
     /// thread. The same bits for every thread count.
     Regions,
 }
