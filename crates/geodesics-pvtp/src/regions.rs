@@ -75,6 +75,7 @@ const ENTERED: usize = 3;
 fn list_word(faces: &mut [[u32; 4]], lh: u32) -> &mut u32 {
     &mut faces.as_flattened_mut()[(lh + lh / 3) as usize]
 }
+
 /// A pop's weight against a propagation in a region's work estimate (which
 /// orders the next band's regions, busiest first): about their costs in
 /// VTP, ~440 ns per vertex (popping, entering the fan, emitting) against
