@@ -34,7 +34,8 @@ pub struct DistanceArgs {
     #[arg(long, value_name = "D")]
     pub max_distance: Option<f64>,
     /// Parallel algorithms (`pvtp`, `pvtp-regions`, `pavtp`): worker threads (default: every logical
-    /// CPU). Results are identical from run to run for a given count.
+    /// CPU). Results are identical from run to run: for `pvtp` for a given count, for
+    /// `pvtp-regions` and `pavtp` for every count.
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
     /// Approximate algorithms (`avtp`): reset the windows every L mean edge
