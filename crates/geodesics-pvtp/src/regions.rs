@@ -798,8 +798,19 @@ impl Region {
 
     fn lower_now(&mut self, s: u32, d: f64, src: u32, arrival: Arrival) {
         let x = &mut self.slots[s as usize];
-        if x.dist == f64::INFINITY && self.resets && !x.inside {
-            self.front.push(s);
+        if x.dist == f64::INFINITY {
+            // First reached: its local fan loads now, long before
+            // `prefetch_upcoming` reads it to ask for its faces (as VTP's
+            // `set_dist` does with the mesh's fan table).
+            let (a, b) = (
+                self.lay.fan_start[s as usize],
+                self.lay.fan_start[s as usize + 1],
+            );
+            geodesics_mesh::prefetch(&self.lay.fan, a as usize);
+            geodesics_mesh::prefetch(&self.lay.fan, (b as usize).saturating_sub(1));
+            if self.resets && !x.inside {
+                self.front.push(s);
+            }
         }
         x.dist = d;
         x.src = src;
