@@ -34,6 +34,9 @@ use std::sync::{Mutex, RwLock};
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
+use geodesics_window::face_lists::{
+    ENTERED, FaceLists, NEW_FACE, NO_LIST, NOT_ENTERED, QUEUED, list_word, queue_list,
+};
 use geodesics_window::prune::{MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted};
 use geodesics_window::{
     ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, NO_SOURCE, Progress, Shadow,
@@ -63,19 +66,6 @@ pub(crate) const REGION_CELL_EDGES: f64 = 64.0;
 pub(crate) const BAND_EDGES: f64 = 1.0;
 
 const NONE: u32 = u32::MAX;
-/// Per local half-edge: bit 31 says it waits in the FIFO, the other bits
-/// index its list in the region's pool, `NO_LIST` for none (as in VTP).
-const QUEUED: u32 = 1 << 31;
-const NO_LIST: u32 = QUEUED - 1;
-/// Where the entry pop of a local face sits in its record.
-const ENTERED: usize = 3;
-
-/// The list word of local half-edge `lh` in the face records.
-#[inline]
-fn list_word(faces: &mut [[u32; 4]], lh: u32) -> &mut u32 {
-    &mut faces.as_flattened_mut()[(lh + lh / 3) as usize]
-}
-
 /// A pop's weight against a propagation in a region's work estimate (which
 /// orders the next band's regions, busiest first): about their costs in
 /// VTP, ~440 ns per vertex (popping, entering the fan, emitting) against
@@ -111,11 +101,9 @@ struct Region {
     index: usize,
     lay: Layout,
     tol: Tolerance,
-    /// Per local face: the list words of its half-edges `3f + i` and, at
-    /// [`ENTERED`], the pop (`counts.pops`) at which it was entered, or
-    /// `NONE`; together, as VTP keeps them, since entering a face reads
-    /// all four and crossing one reads its word and the entry pop.
-    faces: Vec<[u32; 4]>,
+    /// Per local face: its half-edges' lists and the pop (`counts.pops`)
+    /// at which it was entered, as VTP keeps them (`face_lists`).
+    faces: Vec<FaceLists>,
     pool: Vec<Vec<EndedWindow>>,
     free: Vec<u32>,
     slots: Vec<VertexState>,
@@ -591,7 +579,7 @@ fn build<'a>(
             Region {
                 index: r,
                 tol,
-                faces: vec![[NO_LIST, NO_LIST, NO_LIST, NONE]; nlf],
+                faces: vec![NEW_FACE; nlf],
                 pool: Vec::new(),
                 free: Vec::new(),
                 slots: slot_vertex
@@ -976,7 +964,7 @@ impl Region {
                 for k in a..b {
                     let lf = self.lay.fan[k as usize];
                     let record = &mut self.faces[lf as usize];
-                    if record[ENTERED] == NONE {
+                    if record[ENTERED] == NOT_ENTERED {
                         record[ENTERED] = self.counts.pops as u32;
                     }
                     for i in 0..3 {
@@ -1014,11 +1002,7 @@ impl Region {
 
     #[inline]
     fn queue(&mut self, lh: u32) {
-        let word = list_word(&mut self.faces, lh);
-        if *word & QUEUED == 0 && *word != NO_LIST {
-            *word |= QUEUED;
-            self.fifo.push(lh);
-        }
+        queue_list(list_word(&mut self.faces, lh), lh, &mut self.fifo);
     }
 
     fn drain(&mut self, shared: &Shared<'_>) {

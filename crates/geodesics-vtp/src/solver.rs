@@ -5,6 +5,10 @@ use std::collections::BinaryHeap;
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
+use geodesics_window::face_lists::{
+    ENTERED, FaceLists, NEW_FACE, NO_LIST, NOT_ENTERED, QUEUED, list_word, list_word_index,
+    queue_list,
+};
 use geodesics_window::prune::{
     MergeBuffers, PairOutcome, SplitOutcome, apex_paths, beaten_from_edge_ends, merge_behind,
     merge_sorted, one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting,
@@ -20,36 +24,6 @@ use glam::DVec2;
 use crate::{Merge, PairRule, Provenance, Rule1, Schedule, VtpError, VtpOptions};
 
 const NONE: u32 = u32::MAX;
-
-/// Per half-edge `slot`: bit 31 says the half-edge waits in the FIFO, the
-/// other bits index its window list in the pool, `NO_LIST` for none (one
-/// word, so queueing a half-edge touches one cache line).
-const QUEUED: u32 = 1 << 31;
-const NO_LIST: u32 = QUEUED - 1;
-
-/// Per face: the list words of its half-edges `3f + i` (their lists'
-/// indices in the pool, and whether they are queued) and the pop at which
-/// it joined the traversed area. Together, as they are read together:
-/// entering a face looks at all four, crossing one reads its list's word
-/// and the entry pop.
-type FaceLists = [u32; 4];
-
-/// Where the entry pop of a face sits in its [`FaceLists`].
-const ENTERED: usize = 3;
-
-/// Where the list word of half-edge `h` sits in the flattened face
-/// records: `4·(h / 3) + h % 3`.
-#[inline]
-fn slot_index(h: u32) -> usize {
-    (h + h / 3) as usize
-}
-
-/// The list word of half-edge `h` in the face records (a free function,
-/// so a caller may hold it while it pushes to the solver's FIFO).
-#[inline]
-fn list_word(faces: &mut [FaceLists], h: u32) -> &mut u32 {
-    &mut faces.as_flattened_mut()[slot_index(h)]
-}
 
 /// How many queued vertices have their records loaded ahead: the top of
 /// the queue and its children, one of which is popped next.
@@ -191,7 +165,7 @@ impl<'a> Solver<'a> {
             group_of,
             groups,
             heap: VertexQueue::new(nv),
-            faces: vec![[NO_LIST, NO_LIST, NO_LIST, NONE]; nf],
+            faces: vec![NEW_FACE; nf],
             pool: Vec::new(),
             free: Vec::new(),
             fifo: Vec::new(),
@@ -385,7 +359,7 @@ impl<'a> Solver<'a> {
                 for &h in mesh.fan(v) {
                     let f = Mesh::face_of(h);
                     let rec = &mut self.faces[f as usize];
-                    if rec[ENTERED] == NONE {
+                    if rec[ENTERED] == NOT_ENTERED {
                         rec[ENTERED] = self.pops;
                     }
                     // On the record in hand (no index arithmetic).
@@ -432,7 +406,7 @@ impl<'a> Solver<'a> {
         }
         self.face_heap.pop();
         let fi = f as usize;
-        if self.faces[fi][ENTERED] != NONE || self.face_key[fi].to_bits() != key {
+        if self.faces[fi][ENTERED] != NOT_ENTERED || self.face_key[fi].to_bits() != key {
             return true; // stale
         }
         self.pops += 1;
@@ -535,7 +509,7 @@ impl<'a> Solver<'a> {
     /// is queued (see `QUEUED`).
     #[inline]
     fn slot(&self, h: u32) -> u32 {
-        self.faces.as_flattened()[slot_index(h)]
+        self.faces.as_flattened()[list_word_index(h)]
     }
 
     /// How face `f` is crossed (no table read when every face is proper).
@@ -638,7 +612,7 @@ impl<'a> Solver<'a> {
     #[inline(never)]
     fn wait_for_face(&mut self, h: u32, windows: &[EndedWindow]) {
         let f = h / 3;
-        if self.faces[f as usize][ENTERED] != NONE {
+        if self.faces[f as usize][ENTERED] != NOT_ENTERED {
             self.enqueue(h);
             return;
         }
@@ -814,16 +788,6 @@ impl<'a> Solver<'a> {
         DistanceField::from_vertices(self.mesh, self.options.max_distance, |v| {
             (self.verts[v].dist, self.verts[v].src)
         })
-    }
-}
-
-/// Queues the list of half-edge `h`, whose list word is `word`, unless it
-/// has none or waits in `fifo` already.
-#[inline(always)]
-fn queue_list(word: &mut u32, h: u32, fifo: &mut Vec<u32>) {
-    if *word & QUEUED == 0 && *word != NO_LIST {
-        *word |= QUEUED;
-        fifo.push(h);
     }
 }
 

@@ -53,6 +53,7 @@
 // NaN fail the test, so no NaN can ever pass for a valid interval.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod face_lists;
 mod path;
 mod progress;
 pub mod prune;
