@@ -35,7 +35,7 @@ use std::time::Instant;
 
 use geodesics_mesh::Mesh;
 use geodesics_window::face_lists::{
-    ENTERED, FaceLists, NEW_FACE, NO_LIST, NOT_ENTERED, QUEUED, list_word, queue_list,
+    ENTERED, FaceLists, NEW_FACE, NO_LIST, NOT_ENTERED, QUEUED, queue_list,
 };
 use geodesics_window::prune::{MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted};
 use geodesics_window::{
@@ -75,13 +75,29 @@ const POP_WEIGHT: u64 = 16;
 /// children, one of which is popped next).
 const UPCOMING: usize = ARITY + 1;
 
-/// A region's fixed layout: its faces, the copies of their corners and
-/// where else each vertex is copied.
+/// A region's face: its half-edges' lists and the pop (`counts.pops`)
+/// at which it was entered, as VTP keeps them (`face_lists`), then the
+/// slots of its corners and its global number. One record of half a
+/// cache line, since entering, crossing and emitting read them together
+/// (in three arrays they cost three cache misses).
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct LocalFace {
+    lists: FaceLists,
+    corners: [u32; 3],
+    global: u32,
+}
+
+/// The list word of local half-edge `lh` (see `face_lists`).
+#[inline]
+fn list_word(faces: &mut [LocalFace], lh: u32) -> &mut u32 {
+    let lf = lh / 3;
+    &mut faces[lf as usize].lists[(lh - 3 * lf) as usize]
+}
+
+/// A region's fixed layout: the copies of its faces' corners and where
+/// else each vertex is copied.
 struct Layout {
-    /// Global face numbers; a face's local number is its index.
-    faces: Vec<u32>,
-    /// Per local face: the slots of its corners.
-    face_slots: Vec<[u32; 3]>,
     /// Per slot: the vertex.
     slot_vertex: Vec<u32>,
     /// Per slot: its local faces (`fan[fan_start[s]..fan_start[s + 1]]`).
@@ -101,9 +117,9 @@ struct Region {
     index: usize,
     lay: Layout,
     tol: Tolerance,
-    /// Per local face: its half-edges' lists and the pop (`counts.pops`)
-    /// at which it was entered, as VTP keeps them (`face_lists`).
-    faces: Vec<FaceLists>,
+    /// Per local face (a face's local number is its index; they follow
+    /// the global numbers' order).
+    faces: Vec<LocalFace>,
     pool: Vec<Vec<EndedWindow>>,
     free: Vec<u32>,
     slots: Vec<VertexState>,
@@ -574,12 +590,19 @@ fn build<'a>(
                     fill[s as usize] += 1;
                 }
             }
-            let faces = faces_of(r).to_vec();
-            let nlf = faces.len();
+            let faces = faces_of(r)
+                .iter()
+                .zip(&face_slots)
+                .map(|(&global, &corners)| LocalFace {
+                    lists: NEW_FACE,
+                    corners,
+                    global,
+                })
+                .collect();
             Region {
                 index: r,
                 tol,
-                faces: vec![NEW_FACE; nlf],
+                faces,
                 pool: Vec::new(),
                 free: Vec::new(),
                 slots: slot_vertex
@@ -609,8 +632,6 @@ fn build<'a>(
                 prefetched: [NONE; UPCOMING],
                 counts: Counts::default(),
                 lay: Layout {
-                    faces,
-                    face_slots,
                     slot_vertex,
                     fan_start,
                     fan,
@@ -910,7 +931,7 @@ impl Region {
         });
         self.front = front;
         for &lh in &check {
-            let c = self.lay.face_slots[(lh / 3) as usize];
+            let c = self.faces[(lh / 3) as usize].corners;
             let on_front = |i: u32| {
                 let s = c[(i % 3) as usize] as usize;
                 self.is_reset[s] && !self.slots[s].inside
@@ -963,7 +984,7 @@ impl Region {
                 );
                 for k in a..b {
                     let lf = self.lay.fan[k as usize];
-                    let record = &mut self.faces[lf as usize];
+                    let record = &mut self.faces[lf as usize].lists;
                     if record[ENTERED] == NOT_ENTERED {
                         record[ENTERED] = self.counts.pops as u32;
                     }
@@ -991,9 +1012,9 @@ impl Region {
                 self.lay.fan_start[u as usize],
                 self.lay.fan_start[u as usize + 1],
             );
+            // Reading a face's global number loads its record too.
             for &lf in &self.lay.fan[a as usize..b as usize] {
-                shared.mesh.prefetch_face(self.lay.faces[lf as usize]);
-                geodesics_mesh::prefetch(&self.faces, lf as usize);
+                shared.mesh.prefetch_face(self.faces[lf as usize].global);
             }
             geodesics_mesh::prefetch(&self.slots, u as usize);
         }
@@ -1017,7 +1038,7 @@ impl Region {
     /// The slots at the ends of local half-edge `lh`.
     #[inline]
     fn ends_of(&self, lh: u32) -> [u32; 2] {
-        let c = self.lay.face_slots[(lh / 3) as usize];
+        let c = self.faces[(lh / 3) as usize].corners;
         [c[(lh % 3) as usize], c[((lh + 1) % 3) as usize]]
     }
 
@@ -1141,7 +1162,7 @@ impl Region {
             if place.region as usize != self.index {
                 continue;
             }
-            let c = self.lay.face_slots[place.local as usize];
+            let c = self.faces[place.local as usize].corners;
             // The vertex is corner h % 3 of the face; a and b follow it.
             let (sa, sb) = (c[((h + 1) % 3) as usize], c[((h + 2) % 3) as usize]);
             let [(_, la, back_a), (_, lb, back_b)] = corner_neighbours(mesh, h);
@@ -1177,7 +1198,7 @@ impl Region {
         let mut list = std::mem::take(&mut self.pool[idx as usize]);
         self.counts.live -= list.len() as u64;
         let lf = lh / 3;
-        let f = self.lay.faces[lf as usize];
+        let f = self.faces[lf as usize].global;
         let h = 3 * f + lh % 3;
         let kind = if shared.all_proper {
             FaceKind::Proper
@@ -1215,7 +1236,7 @@ impl Region {
                 geodesics_mesh::prefetch(&self.faces, place.local as usize);
             }
         }
-        let c = self.lay.face_slots[lf as usize];
+        let c = self.faces[lf as usize].corners;
         let (sa, sb, sc) = (
             c[i as usize],
             c[((i + 1) % 3) as usize],
@@ -1258,7 +1279,7 @@ impl Region {
         );
         self.counts.props += props;
         self.counts.created += props;
-        if self.faces[lf as usize][ENTERED] == self.counts.pops as u32 {
+        if self.faces[lf as usize].lists[ENTERED] == self.counts.pops as u32 {
             self.counts.prime += props;
         }
         self.info = info;
