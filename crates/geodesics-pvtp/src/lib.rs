@@ -167,6 +167,10 @@ pub fn max_threads() -> usize {
 /// a negative maximum distance, more threads than [`max_threads`], or a
 /// thread pool that cannot start are
 /// [`PvtpError`]s.
+///
+/// The solve's thread pool is kept for the next solve asking for the same
+/// thread count (its threads sleep in between), as rayon keeps its global
+/// pool; a solve running while another one holds it makes its own.
 pub fn solve(
     mesh: &Mesh,
     sources: &[Source],
@@ -174,27 +178,66 @@ pub fn solve(
 ) -> Result<(DistanceField, Stats), PvtpError> {
     let start = Instant::now();
     solver::validate(mesh, sources, options)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
-        .build()
-        .map_err(|e| PvtpError::ThreadPool {
-            threads: options.threads,
-            message: e.to_string(),
-        })?;
-    let threads = pool.current_num_threads();
+    let pool = KeptPool::take(options.threads)?;
+    let threads = pool.pool.current_num_threads();
     // `threads: 0` takes rayon's default, which `RAYON_NUM_THREADS` sets.
     solver::check_thread_count(threads)?;
     options.progress.start(mesh.vertex_count());
-    if options.schedule == Schedule::Regions {
-        return Ok(pool.install(|| regions::solve(mesh, sources, options, threads, start)));
-    }
-    Ok(pool.install(|| {
-        let mut s = solver::Solver::new(mesh, options, threads);
-        for (i, source) in sources.iter().enumerate() {
-            s.seed(i as u32, source);
+    let result = if options.schedule == Schedule::Regions {
+        pool.pool
+            .install(|| regions::solve(mesh, sources, options, threads, start))
+    } else {
+        pool.pool.install(|| {
+            let mut s = solver::Solver::new(mesh, options, threads);
+            for (i, source) in sources.iter().enumerate() {
+                s.seed(i as u32, source);
+            }
+            s.run().finish(start)
+        })
+    };
+    pool.keep();
+    Ok(result)
+}
+
+/// The thread pool of a solve. A finished solve keeps its pool for the
+/// next one asking for the same thread count (one pool is kept, its
+/// threads asleep), as rayon keeps its global pool: a fresh pool's threads
+/// start with empty allocator arenas, so every solve paid page faults for
+/// all the memory its threads touched: repeated solves on two threads ran
+/// 1–8 % slower with a new pool each (the welded dragon, PAVTP on the
+/// 1.1M-face bunny; the more, the busier the machine). A solve running
+/// while another holds the kept pool makes its own, so solves never share
+/// threads.
+struct KeptPool {
+    requested: usize,
+    pool: rayon::ThreadPool,
+}
+
+/// The pool kept by the last finished solve, with the thread count asked
+/// for (`0`: rayon's default).
+static KEPT_POOL: std::sync::Mutex<Option<KeptPool>> = std::sync::Mutex::new(None);
+
+impl KeptPool {
+    /// The kept pool if it has `requested` threads, else a new one.
+    fn take(requested: usize) -> Result<KeptPool, PvtpError> {
+        let kept = solver::lock(&KEPT_POOL).take_if(|k| k.requested == requested);
+        if let Some(kept) = kept {
+            return Ok(kept);
         }
-        s.run().finish(start)
-    }))
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(requested)
+            .build()
+            .map_err(|e| PvtpError::ThreadPool {
+                threads: requested,
+                message: e.to_string(),
+            })?;
+        Ok(KeptPool { requested, pool })
+    }
+
+    /// Keeps this pool for the next solve (replacing a kept one).
+    fn keep(self) {
+        *solver::lock(&KEPT_POOL) = Some(self);
+    }
 }
 
 #[cfg(test)]
