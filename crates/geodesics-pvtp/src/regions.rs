@@ -513,17 +513,19 @@ fn build<'a>(
         fill[r as usize] += 1;
     }
     let faces_of = |r: usize| &by_region[start[r] as usize..start[r + 1] as usize];
-    // Per region: a slot per vertex, numbered as the faces meet them.
-    let parts: Vec<(Vec<u32>, Vec<[u32; 3]>)> = (0..nr)
+    // Per region: a slot per vertex, numbered as the faces meet them, and
+    // the faces' records.
+    let parts: Vec<(Vec<u32>, Vec<LocalFace>)> = (0..nr)
         .into_par_iter()
         .map_init(
             || (vec![NONE; nv], vec![0u32; nv]),
             |(seen, slot_of), r| {
                 let mut slot_vertex = Vec::new();
-                let face_slots = faces_of(r)
+                let faces = faces_of(r)
                     .iter()
-                    .map(|&f| {
-                        mesh.face(f).map(|v| {
+                    .map(|&f| LocalFace {
+                        lists: NEW_FACE,
+                        corners: mesh.face(f).map(|v| {
                             let v = v as usize;
                             if seen[v] != r as u32 {
                                 seen[v] = r as u32;
@@ -531,10 +533,11 @@ fn build<'a>(
                                 slot_vertex.push(v as u32);
                             }
                             slot_of[v]
-                        })
+                        }),
+                        global: f,
                     })
                     .collect();
-                (slot_vertex, face_slots)
+                (slot_vertex, faces)
             },
         )
         .collect();
@@ -563,7 +566,7 @@ fn build<'a>(
     let regions = parts
         .into_par_iter()
         .enumerate()
-        .map(|(r, (slot_vertex, face_slots))| {
+        .map(|(r, (slot_vertex, faces))| {
             let n = slot_vertex.len();
             let mut copy_start = Vec::with_capacity(n + 1);
             let mut others = Vec::new();
@@ -584,8 +587,8 @@ fn build<'a>(
             copy_start.push(others.len() as u32);
             // Local fans: the faces of each slot, by counting.
             let mut fan_start = vec![0u32; n + 1];
-            for c in &face_slots {
-                for &s in c {
+            for face in &faces {
+                for &s in &face.corners {
                     fan_start[s as usize + 1] += 1;
                 }
             }
@@ -594,21 +597,12 @@ fn build<'a>(
             }
             let mut fan = vec![0u32; fan_start[n] as usize];
             let mut fill = fan_start.clone();
-            for (lf, c) in face_slots.iter().enumerate() {
-                for &s in c {
+            for (lf, face) in faces.iter().enumerate() {
+                for &s in &face.corners {
                     fan[fill[s as usize] as usize] = lf as u32;
                     fill[s as usize] += 1;
                 }
             }
-            let faces = faces_of(r)
-                .iter()
-                .zip(&face_slots)
-                .map(|(&global, &corners)| LocalFace {
-                    lists: NEW_FACE,
-                    corners,
-                    global,
-                })
-                .collect();
             Region {
                 index: r,
                 tol,
