@@ -149,7 +149,6 @@ struct Region {
     info: Vec<(f64, f64, f64)>,
     left: Vec<EndedWindow>,
     right: Vec<EndedWindow>,
-    rays: Vec<(u32, Option<(f64, f64)>)>,
     /// Scratch: the regions this one mails, and those that mailed it.
     mailed: Vec<u32>,
     senders: Vec<u32>,
@@ -630,7 +629,6 @@ fn build<'a>(
                 info: Vec::new(),
                 left: Vec::new(),
                 right: Vec::new(),
-                rays: Vec::new(),
                 mailed: Vec::new(),
                 senders: Vec::new(),
                 merge: MergeBuffers::default(),
@@ -1189,10 +1187,7 @@ impl Region {
             None
         };
         let check_now = shadow.is_none();
-        let mut rays = std::mem::take(&mut self.rays);
-        rays.clear();
-        rays.extend(Shadow::fan_rays(shadow, mesh, fan));
-        for &(h, ray) in &rays {
+        for (h, ray) in Shadow::fan_rays(shadow, mesh, fan) {
             let f = Mesh::face_of(h);
             let place = shared.place[f as usize];
             if place.region as usize != self.index {
@@ -1222,7 +1217,6 @@ impl Region {
             }
             self.send(shared, t, Some([sb, sa]), &mut [w]);
         }
-        self.rays = rays;
     }
 
     /// Propagates the list of local half-edge `lh` through its face.
