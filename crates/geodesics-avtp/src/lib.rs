@@ -37,8 +37,9 @@
 //! result is the same bits for every thread count (and, like AVTP, never
 //! below exact); it differs from sequential AVTP's in the last digits of
 //! the error only (mean error 7.63e-4 against 7.64e-4 on the coarse Loop×3
-//! bunny at λ = 8). On 2 CPUs it ran at 1.20–1.30× AVTP's speed at λ = 8
-//! on meshes of 70K–280K faces (1.4–1.6× at λ = 32–128);
+//! bunny at λ = 8). On 2 CPUs it ran at 1.28–1.35× AVTP's speed at λ = 8
+//! on meshes of 70K–280K faces and 1.44–1.46× on 0.9–1.1M faces (up to
+//! 1.6–1.74× at λ = 128 on the larger ones);
 //! PVTP's rounds, which it used before, ran at 0.7–0.9×: their one-thread
 //! part cost about what AVTP's whole solve does.
 //!

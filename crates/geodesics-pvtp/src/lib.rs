@@ -33,9 +33,9 @@
 //! that grows band by band (Du et al.'s buckets); windows and distances
 //! that cross into another region are delayed to the next band and read
 //! in a fixed order, so the result is the same bits for every thread
-//! count. On 2 CPUs it scales better than the rounds (1.84–1.90× against
-//! 1.58–1.64× on 235K–871K faces, `cargo xtask pvtp`) but is 10–18 %
-//! slower than VTP on one thread, so it reaches 1.63–1.68× VTP on two
+//! count. On 2 CPUs it scales better than the rounds (1.80–1.98× against
+//! 1.58–1.64× on 235K–871K faces, `cargo xtask pvtp`) but is 8–14 %
+//! slower than VTP on one thread, so it reaches 1.61–1.72× VTP on two
 //! (the rounds 1.48–1.52×); PAVTP (`geodesics-avtp`) runs on it.
 //!
 //! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
