@@ -191,10 +191,29 @@ impl Interleaved {
         mesh: &Mesh,
         algorithms: &[Algorithm],
         runs: usize,
+        before_round: impl FnMut(),
+    ) -> Result<Interleaved> {
+        let fresh = vec![false; algorithms.len()];
+        Interleaved::run_prepared(mesh, algorithms, &fresh, runs, before_round)
+    }
+
+    /// [`Interleaved::run_with`], where the algorithms flagged in
+    /// `prepared` run on one `geodesics::PreparedMesh` kept across the
+    /// rounds (laid out before the first, untimed), the others through
+    /// `geodesics::compute`, setting up in every solve.
+    pub fn run_prepared(
+        mesh: &Mesh,
+        algorithms: &[Algorithm],
+        prepared: &[bool],
+        runs: usize,
         mut before_round: impl FnMut(),
     ) -> Result<Interleaved> {
         let n = algorithms.len();
         let rounds = runs.max(1);
+        let mut kept = geodesics::PreparedMesh::new(mesh);
+        if let Some(i) = prepared.iter().position(|&p| p) {
+            kept.compute(&[Source::Vertex(0)], &algorithms[i])?;
+        }
         let mut seconds = vec![Vec::with_capacity(rounds); n];
         let mut fastest: Vec<Option<(f64, geodesics::DistanceField, Stats)>> = vec![None; n];
         for round in 0..rounds {
@@ -202,8 +221,11 @@ impl Interleaved {
             for k in 0..n {
                 let i = (k + round) % n;
                 let t = Instant::now();
-                let (field, stats) =
-                    geodesics::compute(mesh, &[Source::Vertex(0)], &algorithms[i])?;
+                let (field, stats) = if prepared[i] {
+                    kept.compute(&[Source::Vertex(0)], &algorithms[i])?
+                } else {
+                    geodesics::compute(mesh, &[Source::Vertex(0)], &algorithms[i])?
+                };
                 let s = t.elapsed().as_secs_f64();
                 seconds[i].push(s);
                 if fastest[i].as_ref().is_none_or(|(b, _, _)| s < *b) {

@@ -14,8 +14,15 @@ use crate::cores::{FAST_ROUND_TRIP_NS, RoundTrips};
 use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, Spread, build_renumbered, coarse_bunny, data_dir, read};
 
-/// PVTP's two ways of cutting the work, each timed at every T.
-const SCHEDULES: [Schedule; 2] = [Schedule::Rounds, Schedule::Regions];
+/// What is timed at every T: PVTP's two ways of cutting the work, each
+/// solve setting up anew as `geodesics::compute` does, and the region
+/// schedule on a mesh kept prepared across solves (`PreparedMesh`), with
+/// their row names.
+const VARIANTS: [(Schedule, bool, &str); 3] = [
+    (Schedule::Rounds, false, "PVTP"),
+    (Schedule::Regions, false, "PVTP, regions"),
+    (Schedule::Regions, true, "PVTP, regions, prepared"),
+];
 
 /// The scaling table, one row for VTP and one per schedule and thread
 /// count, per mesh.
@@ -76,17 +83,21 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     for (name, mesh) in cases {
         // VTP, then each schedule at every T.
         let mut algorithms = vec![Algorithm::default()];
-        for schedule in SCHEDULES {
-            algorithms.extend(threads.iter().map(|&t| {
-                Algorithm::Pvtp(PvtpOptions {
+        let mut prepared = vec![false];
+        for (schedule, kept, _) in VARIANTS {
+            for &t in &threads {
+                algorithms.push(Algorithm::Pvtp(PvtpOptions {
                     threads: t,
                     schedule,
                     ..PvtpOptions::default()
-                })
-            }));
+                }));
+                prepared.push(kept);
+            }
         }
         let mut round_trips = RoundTrips::new();
-        let timed = Interleaved::run_with(&mesh, &algorithms, runs, || round_trips.sample())?;
+        let timed = Interleaved::run_prepared(&mesh, &algorithms, &prepared, runs, || {
+            round_trips.sample()
+        })?;
         round_trips.sample();
         let round_trip = round_trips.range_cell();
         let vtp = &timed.fastest[0].1;
@@ -104,7 +115,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             Cell::missing(),
             Cell::missing(),
         ]);
-        for (j, schedule) in SCHEDULES.into_iter().enumerate() {
+        for (j, (_, _, solver)) in VARIANTS.into_iter().enumerate() {
             // The schedule's T = 1 run, the base of its speed-ups.
             let one = 1 + j * threads.len();
             for (k, &t) in threads.iter().enumerate() {
@@ -117,10 +128,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 report.row(vec![
                     Cell::text(&name),
                     Cell::shown(mesh.face_count()),
-                    Cell::text(match schedule {
-                        Schedule::Rounds => "PVTP",
-                        Schedule::Regions => "PVTP, regions",
-                    }),
+                    Cell::text(solver),
                     Cell::shown(t),
                     Cell::fixed(timed.best(i), 3),
                     Cell::spread(timed.speed_up(one, i)),
@@ -171,7 +179,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
         ),
     );
     report.note(
-        "Speed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. PVTP, regions: the region schedule (`Schedule::Regions`): its phases are the bands, and outside them is the setup (cutting the mesh into regions) and the result. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
+        "Speed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. PVTP, regions: the region schedule (`Schedule::Regions`): its phases are the bands, and outside them is the setup (cutting the mesh into regions) and the result. PVTP, regions, prepared: the same on one `geodesics::PreparedMesh` kept across the rounds, laid out once before them (untimed), as a caller solving many sources on one mesh would: outside the bands is then restarting the regions' state and the result. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
     );
     report.finish()
 }

@@ -61,6 +61,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub use geodesics_pvtp::PreparedMesh;
 pub use geodesics_vtp::WindowReset;
 pub use geodesics_window::{DistanceField, Progress, Source, Stats};
 
@@ -151,8 +152,24 @@ pub fn solve(
     sources: &[Source],
     options: &AvtpOptions,
 ) -> Result<(DistanceField, Stats), AvtpError> {
+    solve_prepared(&mut PreparedMesh::new(mesh), sources, options)
+}
+
+/// [`solve`] on a mesh kept ready for many solves: PAVTP
+/// (`options.threads` set) reuses the region layout of the last parallel
+/// solve on it (see [`PreparedMesh`]); sequential AVTP keeps nothing and
+/// runs as [`solve`] does. The same bits as [`solve`].
+pub fn solve_prepared(
+    prepared: &mut PreparedMesh<'_>,
+    sources: &[Source],
+    options: &AvtpOptions,
+) -> Result<(DistanceField, Stats), AvtpError> {
     match options.threads {
-        None => Ok(geodesics_vtp::solve(mesh, sources, &options.vtp_options())?),
+        None => Ok(geodesics_vtp::solve(
+            prepared.mesh(),
+            sources,
+            &options.vtp_options(),
+        )?),
         Some(threads) => {
             let pvtp = PvtpOptions {
                 threads,
@@ -164,7 +181,7 @@ pub fn solve(
                 // AVTP on 2 CPUs); the regions have none (1.20–1.30×).
                 schedule: Schedule::Regions,
             };
-            Ok(geodesics_pvtp::solve(mesh, sources, &pvtp)?)
+            Ok(prepared.solve(sources, &pvtp)?)
         }
     }
 }

@@ -180,12 +180,26 @@ struct FacePlace {
 /// Read-only during bands.
 struct Shared<'a> {
     mesh: &'a Mesh,
-    kind: Vec<FaceKind>,
+    kind: &'a [FaceKind],
     /// Every face is proper (no zero-area face): `kind` need not be read.
     all_proper: bool,
     max_distance: f64,
     /// Per face: its region and its number there.
+    place: &'a [FacePlace],
+}
+
+/// The regions of one mesh, laid out by its first region solve and kept
+/// for the next ones (see [`crate::PreparedMesh`]): each solve restarts
+/// their state instead of laying them out again in fresh memory.
+pub(crate) struct Prepared {
+    setup: SolverSetup,
+    all_proper: bool,
     place: Vec<FacePlace>,
+    regions: Vec<Region>,
+    copies: Copies,
+    /// The list buffers the threads held as spares when the last solve
+    /// ended, handed out again to the next solve's threads.
+    spares: Vec<Vec<EndedWindow>>,
 }
 
 /// The windows one region sends another in a band, in the order it made
@@ -246,22 +260,48 @@ struct Band {
     order: Vec<u32>,
 }
 
+impl Prepared {
+    /// How many regions the mesh was cut into.
+    #[cfg(test)]
+    pub(crate) fn region_count(&self) -> usize {
+        self.regions.len()
+    }
+}
+
 /// Runs the region schedule on the current rayon pool of `threads`
-/// threads (the sources are valid).
+/// threads (the sources are valid), on the regions kept in `prepared`
+/// (laid out first if there are none; `mesh` is the mesh they were laid
+/// out for).
 pub(crate) fn solve(
+    prepared: &mut Option<Prepared>,
     mesh: &Mesh,
     sources: &[Source],
     options: &PvtpOptions,
     threads: usize,
     start: Instant,
 ) -> (DistanceField, Stats) {
-    let tol = Tolerance::for_mesh(mesh);
-    let setup = SolverSetup::new(mesh, &tol);
     let h = mesh.average_edge_length();
-    let (shared, mut regions, copies) = build(mesh, setup, tol, options, REGION_CELL_EDGES * h);
+    // Taken for the solve: a solve that panics leaves none, and the next
+    // one lays the regions out afresh.
+    let mut prep = prepared
+        .take()
+        .unwrap_or_else(|| build(mesh, REGION_CELL_EDGES * h));
+    let resets = options.reset.is_some();
+    prep.regions
+        .par_iter_mut()
+        .for_each(|r| r.restart(&prep.setup, resets));
+    let mut regions = std::mem::take(&mut prep.regions);
+    let copies = &prep.copies;
+    let shared = Shared {
+        mesh,
+        kind: &prep.setup.kind,
+        all_proper: prep.all_proper,
+        max_distance: options.max_distance.unwrap_or(f64::INFINITY),
+        place: &prep.place,
+    };
     let mut created = 0;
     for (i, source) in sources.iter().enumerate() {
-        let seeds = seeds(mesh, &shared.kind, source, i as u32);
+        let seeds = seeds(mesh, shared.kind, source, i as u32);
         for &v in &seeds.pseudo {
             for &(r, s) in copies.of(v) {
                 let x = &mut regions[r as usize].slots[s as usize];
@@ -303,7 +343,16 @@ pub(crate) fn solve(
         senders: (0..nr)
             .map(|_| [Mutex::new(Vec::new()), Mutex::new(Vec::new())])
             .collect(),
-        spares: (0..threads).map(|_| Mutex::default()).collect(),
+        spares: {
+            let mut kept = std::mem::take(&mut prep.spares);
+            let share = kept.len().div_ceil(threads.max(1));
+            (0..threads)
+                .map(|_| {
+                    let at = kept.len().saturating_sub(share);
+                    Mutex::new(kept.split_off(at))
+                })
+                .collect()
+        },
     };
     // The seeds' windows are read in band 0, as mail of "band −1".
     for (r, region) in regions.iter().enumerate() {
@@ -356,6 +405,14 @@ pub(crate) fn solve(
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
         })
         .collect();
+    let mut spares = Vec::new();
+    for thread in post.spares {
+        spares.extend(
+            thread
+                .into_inner()
+                .unwrap_or_else(std::sync::PoisonError::into_inner),
+        );
+    }
     let mut counts = Counts {
         created,
         ..Counts::default()
@@ -405,6 +462,9 @@ pub(crate) fn solve(
         ..Stats::default()
     };
     let management = (stats.total_seconds - band_seconds).max(0.0);
+    prep.regions = regions;
+    prep.spares = spares;
+    *prepared = Some(prep);
     (
         field,
         Stats {
@@ -427,14 +487,10 @@ impl Copies {
 }
 
 /// Cuts the mesh into regions of cubes `cell` wide and lays each out, on
-/// the current pool.
-fn build<'a>(
-    mesh: &'a Mesh,
-    setup: SolverSetup,
-    tol: Tolerance,
-    options: &PvtpOptions,
-    cell: f64,
-) -> (Shared<'a>, Vec<Region>, Copies) {
+/// the current pool (their solve state is set by [`Region::restart`]).
+fn build(mesh: &Mesh, cell: f64) -> Prepared {
+    let tol = Tolerance::for_mesh(mesh);
+    let setup = SolverSetup::new(mesh, &tol);
     let nf = mesh.face_count();
     let nv = mesh.vertex_count();
     let inv = if cell.is_finite() && cell > 0.0 {
@@ -561,7 +617,6 @@ fn build<'a>(
         start: cstart,
         pairs,
     };
-    let resets = options.reset.is_some();
     let regions = parts
         .into_par_iter()
         .enumerate()
@@ -609,22 +664,19 @@ fn build<'a>(
                 pool: Vec::new(),
                 free: Vec::new(),
                 spares: Vec::new(),
-                slots: slot_vertex
-                    .iter()
-                    .map(|&v| setup.vertex_state(v as usize))
-                    .collect(),
-                arrival: vec![Arrival::Unknown; n],
+                slots: Vec::new(),
+                arrival: Vec::new(),
                 heap: VertexQueue::new(n),
                 fifo: Vec::new(),
                 dirty: Vec::new(),
-                is_dirty: vec![false; n],
+                is_dirty: Vec::new(),
                 letters: Vec::new(),
                 last_letter: 0,
                 spare_letters: Vec::new(),
                 seed_windows: Vec::new(),
-                resets,
+                resets: false,
                 front: Vec::new(),
-                is_reset: if resets { vec![false; n] } else { Vec::new() },
+                is_reset: Vec::new(),
                 grown: Vec::new(),
                 info: Vec::new(),
                 left: Vec::new(),
@@ -645,14 +697,14 @@ fn build<'a>(
             }
         })
         .collect();
-    let shared = Shared {
-        mesh,
+    Prepared {
         all_proper: setup.kind.iter().all(|&k| k == FaceKind::Proper),
-        kind: setup.kind,
-        max_distance: options.max_distance.unwrap_or(f64::INFINITY),
+        setup,
         place,
-    };
-    (shared, regions, copies)
+        regions,
+        copies,
+        spares: Vec::new(),
+    }
 }
 
 /// The driving thread's state between bands.
@@ -800,6 +852,53 @@ fn work(
 const MAX_SPARE_LISTS: usize = 1 << 14;
 
 impl Region {
+    /// Sets the region up for a new solve, as its layout left it: no list,
+    /// no face entered, every slot unreached with its vertex's kind from
+    /// `setup`; `resets`: AVTP's resets run (PAVTP). The buffers stay.
+    fn restart(&mut self, setup: &SolverSetup, resets: bool) {
+        for face in &mut self.faces {
+            face.lists = NEW_FACE;
+        }
+        for list in &mut self.pool {
+            list.clear();
+        }
+        self.free.clear();
+        self.free.extend((0..self.pool.len() as u32).rev());
+        let n = self.lay.slot_vertex.len();
+        self.slots.clear();
+        self.slots.extend(
+            self.lay
+                .slot_vertex
+                .iter()
+                .map(|&v| setup.vertex_state(v as usize)),
+        );
+        self.arrival.clear();
+        self.arrival.resize(n, Arrival::Unknown);
+        self.heap.clear();
+        self.fifo.clear();
+        self.dirty.clear();
+        self.is_dirty.clear();
+        self.is_dirty.resize(n, false);
+        for mut letter in self.letters.drain(..) {
+            letter.half_edges.clear();
+            letter.windows.clear();
+            self.spare_letters.push(letter);
+        }
+        self.last_letter = 0;
+        self.seed_windows.clear();
+        self.resets = resets;
+        self.front.clear();
+        self.is_reset.clear();
+        if resets {
+            self.is_reset.resize(n, false);
+        }
+        self.grown.clear();
+        self.mailed.clear();
+        self.senders.clear();
+        self.prefetched = [NONE; UPCOMING];
+        self.counts = Counts::default();
+    }
+
     /// Once the region holds no window (the wavefront has left it, or
     /// not reached it), its list buffers go to the spares: every list
     /// with an index in `pool` holds a window (an emptied list is freed
