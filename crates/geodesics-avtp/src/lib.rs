@@ -37,9 +37,11 @@
 //! result is the same bits for every thread count (and, like AVTP, never
 //! below exact); it differs from sequential AVTP's in the last digits of
 //! the error only (mean error 7.63e-4 against 7.64e-4 on the coarse Loop×3
-//! bunny at λ = 8). On 2 CPUs it ran at 1.28–1.35× AVTP's speed at λ = 8
-//! on meshes of 70K–280K faces and 1.44–1.46× on 0.9–1.1M faces (up to
-//! 1.6–1.74× at λ = 128 on the larger ones);
+//! bunny at λ = 8). On 2 CPUs it ran at 1.16–1.38× AVTP's speed at λ = 8
+//! on meshes of 70K–280K faces and 1.33–1.49× on 0.9–1.1M faces (up to
+//! 1.6–1.7× at λ = 128 on the larger ones), and, on a mesh kept ready
+//! for many solves ([`solve_prepared`]), 1.31–1.68× and 1.49–1.65×
+//! (`cargo xtask avtp --large`);
 //! PVTP's rounds, which it used before, ran at 0.7–0.9×: their one-thread
 //! part cost about what AVTP's whole solve does.
 //!

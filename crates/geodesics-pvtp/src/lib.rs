@@ -33,10 +33,12 @@
 //! that grows band by band (Du et al.'s buckets); windows and distances
 //! that cross into another region are delayed to the next band and read
 //! in a fixed order, so the result is the same bits for every thread
-//! count. On 2 CPUs it scales better than the rounds (1.80–1.98× against
-//! 1.58–1.64× on 235K–871K faces, `cargo xtask pvtp`) but is 8–14 %
-//! slower than VTP on one thread, so it reaches 1.61–1.72× VTP on two
-//! (the rounds 1.48–1.52×); PAVTP (`geodesics-avtp`) runs on it.
+//! count. On 2 CPUs it scales better than the rounds (1.81–2.07× against
+//! 1.60–1.64× on 235K–871K faces, `cargo xtask pvtp`) but is 7–19 %
+//! slower than VTP on one thread, so it reaches 1.69–1.70× VTP on two
+//! (the rounds 1.47–1.53×), and 1.70–1.85× on a [`PreparedMesh`], which
+//! lays the regions out once for many solves; PAVTP (`geodesics-avtp`)
+//! runs on it.
 //!
 //! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
 //! and the sources are pseudo-sources as in VTP: they emit windows when
@@ -189,9 +191,12 @@ pub fn solve(
 /// memory the first one touched. Each solve gives the same bits as
 /// [`solve`] would.
 ///
-/// Laying out is about 13 % of a two-thread PAVTP solve at λ = 8 on the
-/// 1.1M-face subdivided bunny (it writes about 200 MB of fresh memory),
-/// and a few percent of an exact one. The price is that memory, held
+/// On 2 CPUs a prepared two-thread solve took 8–10 % less time than a
+/// fresh one on the welded dragon (exact, 871K faces) and for PAVTP at
+/// λ = 8 on the 1.1M-face subdivided bunny, and 3 % less on 235K–280K
+/// faces (`cargo xtask pvtp`, `cargo xtask avtp --large`): a fresh solve
+/// writes its tables into new memory (about 200 MB on that bunny), and
+/// faulting those pages in is the cost. The price is that memory, held
 /// until the `PreparedMesh` is dropped. The rounds schedule keeps
 /// nothing.
 ///
