@@ -407,6 +407,30 @@ mod tests {
         );
     }
 
+    /// Every algorithm, one after another on one prepared mesh (the
+    /// parallel ones with more than one region and with other sources in
+    /// between), gives the bits `compute` gives.
+    #[test]
+    fn a_prepared_mesh_computes_what_compute_does() {
+        let soup = geodesics_shapes::bumpy_sphere(5, 1.0, 12, 0.15, 3);
+        let mesh = Mesh::build(soup, &BuildOptions::default()).unwrap();
+        let mut prepared = PreparedMesh::new(&mesh);
+        for (k, &name) in Algorithm::NAMES.iter().enumerate() {
+            let algorithm: Algorithm = name.parse().unwrap();
+            let sources = [Source::Vertex(97 * k as u32)];
+            let (a, _) = prepared.compute(&sources, &algorithm).unwrap();
+            let (b, _) = compute(&mesh, &sources, &algorithm).unwrap();
+            assert!(
+                a.distance
+                    .iter()
+                    .zip(&b.distance)
+                    .all(|(x, y)| x.to_bits() == y.to_bits()),
+                "{name}"
+            );
+            assert_eq!(a.nearest_source, b.nearest_source, "{name}");
+        }
+    }
+
     #[test]
     fn lambda_only_for_approximate_algorithms() {
         let a = Algorithm::from_str("avtp")
