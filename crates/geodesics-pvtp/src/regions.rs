@@ -1150,6 +1150,10 @@ impl Region {
                 shared.mesh.prefetch_face(self.faces[lf as usize].global);
             }
             geodesics_mesh::prefetch(&self.slots, u as usize);
+            // Emitting walks the vertex's fan in the mesh's table.
+            shared
+                .mesh
+                .prefetch_fan_table(self.lay.slot_vertex[u as usize]);
         }
         self.prefetched = seen;
     }
