@@ -879,12 +879,7 @@ impl Region {
         self.dirty.clear();
         self.is_dirty.clear();
         self.is_dirty.resize(n, false);
-        for mut letter in self.letters.drain(..) {
-            letter.half_edges.clear();
-            letter.windows.clear();
-            self.spare_letters.push(letter);
-        }
-        self.last_letter = 0;
+        self.recycle_letters();
         self.seed_windows.clear();
         self.resets = resets;
         self.front.clear();
@@ -897,6 +892,16 @@ impl Region {
         self.senders.clear();
         self.prefetched = [NONE; UPCOMING];
         self.counts = Counts::default();
+    }
+
+    /// Empties `letters` into the spare letters, keeping their buffers.
+    fn recycle_letters(&mut self) {
+        for mut letter in self.letters.drain(..) {
+            letter.half_edges.clear();
+            letter.windows.clear();
+            self.spare_letters.push(letter);
+        }
+        self.last_letter = 0;
     }
 
     /// Once the region holds no window (the wavefront has left it, or
@@ -1436,12 +1441,7 @@ impl Region {
         outbox.distances.clear();
         // The letters read in the last band go back to the spares.
         std::mem::swap(&mut outbox.letters, &mut self.letters);
-        for mut letter in self.letters.drain(..) {
-            letter.half_edges.clear();
-            letter.windows.clear();
-            self.spare_letters.push(letter);
-        }
-        self.last_letter = 0;
+        self.recycle_letters();
         let mut least = f64::INFINITY;
         for &s in &self.dirty {
             self.is_dirty[s as usize] = false;
