@@ -5,7 +5,9 @@ use rayon::prelude::*;
 
 use crate::summary::{AnisotropyStats, MeshSummary};
 use crate::union_find::UnionFind;
-use crate::{FaceKind, HalfEdge, IndexedTriangles, Mesh, MeshError, NONE, frame_coords_of};
+use crate::{
+    FaceKind, HalfEdge, IndexedTriangles, LENGTH_SCALE_SPAN, Mesh, MeshError, NONE, frame_coords_of,
+};
 
 /// How to build a [`Mesh`].
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -171,6 +173,7 @@ impl Mesh {
             mesh_face: maps.new_face,
             input_vertex_count,
             average_edge_length: 0.0,
+            length_scale: 0.0,
             face_kind: Vec::new(),
             summary: MeshSummary::default(),
         };
@@ -183,7 +186,32 @@ impl Mesh {
             [welded_vertices, welded_collapsed_faces],
             reoriented_faces,
         );
+        mesh.length_scale = mesh.capped_length_scale();
         Ok(mesh)
+    }
+
+    /// [`Mesh::length_scale`]: the bounding-box diagonal, capped at
+    /// [`LENGTH_SCALE_SPAN`] · √F median edges (the median of a sample of
+    /// at most 2^16 half-edges, evenly strided: deterministic, and cheap on
+    /// the largest meshes).
+    fn capped_length_scale(&self) -> f64 {
+        const SAMPLE: usize = 1 << 16;
+        let diagonal = self.summary.bbox_diagonal;
+        let stride = self.half.len().div_ceil(SAMPLE).max(1);
+        let mut lengths: Vec<f64> = self
+            .half
+            .iter()
+            .step_by(stride)
+            .map(|h| h.length)
+            .filter(|&l| l > 0.0)
+            .collect();
+        if lengths.is_empty() {
+            return diagonal;
+        }
+        let middle = lengths.len() / 2;
+        let (_, &mut median, _) = lengths.select_nth_unstable_by(middle, f64::total_cmp);
+        let cap = LENGTH_SCALE_SPAN * (self.face_count() as f64).sqrt() * median;
+        diagonal.min(cap)
     }
 
     fn compute_geometry(&mut self) {

@@ -61,6 +61,10 @@ pub use summary::{AnisotropyStats, MeshSummary};
 /// ([`MeshError::CoordinateTooLarge`]).
 pub const MAX_COORDINATE: f64 = 1e100;
 
+/// How far a mesh's bounding-box diagonal may exceed √F median edges
+/// before [`Mesh::length_scale`] stops following it.
+pub const LENGTH_SCALE_SPAN: f64 = 1000.0;
+
 /// The smallest a mesh's bounding box may be, on its largest side (unless all its
 /// vertices coincide): below it, squared edge lengths could underflow and
 /// every distance come out 0. [`Mesh::build`] refuses smaller meshes
@@ -139,6 +143,8 @@ pub struct Mesh {
     input_vertex_count: usize,
     /// Mean half-edge length.
     average_edge_length: f64,
+    /// What tolerances scale with (see [`Mesh::length_scale`]).
+    length_scale: f64,
     /// Per face: how window solvers cross it.
     face_kind: Vec<FaceKind>,
     summary: MeshSummary,
@@ -544,10 +550,39 @@ impl Mesh {
         &self.summary
     }
 
-    /// Length of the bounding-box diagonal: the scale of the mesh, for
-    /// tolerances.
+    /// Length of the bounding-box diagonal.
     pub fn bbox_diagonal(&self) -> f64 {
         self.summary.bbox_diagonal
+    }
+
+    /// The length the solvers' tolerances scale with: the bounding-box
+    /// diagonal, but at most [`LENGTH_SCALE_SPAN`] · √F median edges.
+    ///
+    /// A surface of `F` faces whose edges are about `e` long spans about
+    /// `e·√F` (a long strip more, by a factor far below the cap). Only a
+    /// few vertices far out of proportion with the rest (a corrupt
+    /// coordinate, say 1e22 on a 10 mm part) make the box larger than the
+    /// cap; a rounding margin of their scale would exceed the rest of the
+    /// mesh, leave every window standing and the solve would never end.
+    /// On every other mesh this is the diagonal itself.
+    ///
+    /// ```
+    /// use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
+    /// use glam::DVec3;
+    ///
+    /// // Two triangles; the second reaches out to (far, far, 0).
+    /// let flat = |far: f64| IndexedTriangles {
+    ///     positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(far, far, 0.0)],
+    ///     triangles: vec![[0, 1, 2], [1, 3, 2]],
+    /// };
+    /// let mesh = Mesh::build(flat(1.0), &BuildOptions::default())?;
+    /// assert_eq!(mesh.length_scale(), mesh.bbox_diagonal());
+    /// let outlier = Mesh::build(flat(1e22), &BuildOptions::default())?;
+    /// assert!(outlier.length_scale() < 1e-15 * outlier.bbox_diagonal());
+    /// # Ok::<(), geodesics_mesh::MeshError>(())
+    /// ```
+    pub fn length_scale(&self) -> f64 {
+        self.length_scale
     }
 
     /// Average half-edge length over all faces (computed once, when

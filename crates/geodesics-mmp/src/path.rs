@@ -160,7 +160,7 @@ impl<'a> MmpField<'a> {
         // An edge crossing within the tolerance of an edge end is that
         // vertex: the path passes through it (it may bend there).
         let mesh = self.mesh;
-        let snap = VERTEX_SNAP_MARGINS * self.solved.tol.margin(mesh.bbox_diagonal());
+        let snap = VERTEX_SNAP_MARGINS * self.solved.tol.margin(mesh.length_scale());
         for p in &mut pts {
             if let SurfacePoint::Edge { half_edge, t } = *p {
                 let along = t * mesh.length(half_edge);

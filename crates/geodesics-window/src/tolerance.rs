@@ -29,7 +29,7 @@ const SHADOW_ANGLE_MARGIN: f64 = 1e-5;
 /// never discarded (that would cost exactness).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerance {
-    /// Absolute part of the length margin: `64 ε ×` bounding-box diagonal.
+    /// Absolute part of the length margin: `64 ε ×` the mesh's scale.
     pub absolute: f64,
     /// Relative part of the length margin, applied to the larger length compared.
     pub relative: f64,
@@ -58,9 +58,10 @@ impl Tolerance {
         }
     }
 
-    /// The policy for `mesh` (scale = its bounding-box diagonal).
+    /// The policy for `mesh`: scale = [`Mesh::length_scale`], its
+    /// bounding-box diagonal unless a few far-out vertices inflate that.
     pub fn for_mesh(mesh: &Mesh) -> Tolerance {
-        Tolerance::for_scale(mesh.bbox_diagonal())
+        Tolerance::for_scale(mesh.length_scale())
     }
 
     /// Length margin when comparing lengths of magnitude about `magnitude`.
