@@ -1,6 +1,8 @@
 //! Meshes with a few vertices far out of proportion with the rest (a
 //! corrupt coordinate): every solver finishes, with the work and the exact
-//! distances of the mesh without them.
+//! distances of the mesh without them; and needles so thin that the
+//! window-list solvers refuse them by name (`check_spikes`) where they
+//! would run without end.
 //!
 //! A byte flipped in a binary STL of a 15 mm screw put one vertex 2e22
 //! away. Tolerances scaled with the bounding box then allowed rounding
@@ -78,5 +80,63 @@ fn a_far_vertex_leaves_the_tolerance_and_the_work_of_the_rest() {
             stats.window_propagations,
             base_stats.window_propagations
         );
+    }
+}
+
+/// A bipyramid over a regular octagon of radius 1: apex at height `h`.
+fn needle(h: f64) -> Mesh {
+    let step = std::f64::consts::TAU / 8.0;
+    let mut positions: Vec<DVec3> = (0..8)
+        .map(|i| {
+            DVec3::new(
+                (step * f64::from(i)).cos(),
+                (step * f64::from(i)).sin(),
+                0.0,
+            )
+        })
+        .collect();
+    positions.push(DVec3::new(0.0, 0.0, h));
+    positions.push(DVec3::new(0.0, 0.0, -1.0));
+    let triangles = (0..8)
+        .flat_map(|i| [[i, (i + 1) % 8, 8], [(i + 1) % 8, i, 9]])
+        .collect();
+    Mesh::build(
+        IndexedTriangles {
+            positions,
+            triangles,
+        },
+        &BuildOptions::default(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_needle_is_refused_by_every_window_list_solver_and_solved_by_mmp() {
+    // 1e12 times longer than wide: VTP and ICH ran without end on it.
+    let mesh = needle(1e12);
+    let source = [Source::Vertex(0)];
+    for &name in Algorithm::NAMES {
+        let algorithm: Algorithm = name.parse().unwrap();
+        let result = compute(&mesh, &source, &algorithm);
+        if name.ends_with("mmp") && !name.starts_with("vtp") {
+            let (field, _) = result.unwrap_or_else(|e| panic!("{name}: {e}"));
+            // The apex is reached up a face, from the rim.
+            let rim = mesh.position(0).distance(mesh.position(8));
+            assert!((field.distance[8] - rim).abs() <= 1e-12 * rim, "{name}");
+            continue;
+        }
+        let message = result.err().map(|e| e.to_string());
+        assert!(
+            message
+                .as_deref()
+                .is_some_and(|m| m.starts_with("vertex 8 is a spike")),
+            "{name}: {message:?}"
+        );
+    }
+    // A blunt one (1,000 to 1) solves everywhere.
+    let blunt = needle(1e3);
+    for &name in Algorithm::NAMES {
+        let algorithm: Algorithm = name.parse().unwrap();
+        compute(&blunt, &source, &algorithm).unwrap_or_else(|e| panic!("{name}: {e}"));
     }
 }

@@ -7,7 +7,7 @@ use geodesics_mesh::Mesh;
 use geodesics_window::prune::vertex_check;
 use geodesics_window::{
     DistanceField, FaceKind, NO_SOURCE, SolverSetup, Source, Stats, Tolerance, Triangle, Window,
-    seeds, validate_sources,
+    check_spikes, seeds, validate_sources,
 };
 use glam::DVec2;
 
@@ -89,6 +89,7 @@ pub(crate) fn solve(
 
 fn validate(mesh: &Mesh, sources: &[Source], options: &IchOptions) -> Result<(), IchError> {
     validate_sources(mesh, sources, options.max_distance)?;
+    check_spikes(mesh)?;
     Ok(())
 }
 

@@ -1,6 +1,6 @@
 //! Errors of [`crate::solve`].
 
-use geodesics_window::SourceError;
+use geodesics_window::{SourceError, SpikeError};
 use thiserror::Error;
 
 /// Why a PVTP solve was refused. Every variant names the offending source
@@ -10,6 +10,9 @@ pub enum PvtpError {
     /// A source, or the distance limit, was refused.
     #[error(transparent)]
     Source(#[from] SourceError),
+    /// The mesh has a spike the windows would wind around without end.
+    #[error(transparent)]
+    Spike(#[from] SpikeError),
     /// The PAVTP reset parameters are not usable.
     #[error(
         "window reset needs a finite lambda > 0 and a finite lambda_g >= 0 (got lambda {lambda}, lambda_g {lambda_g})"

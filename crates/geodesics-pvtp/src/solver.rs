@@ -46,7 +46,7 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Progress, ResetFront, Shadow,
-    SolverSetup, Source, Stats, Tolerance, Triangle, VertexState, corner_neighbours,
+    SolverSetup, Source, Stats, Tolerance, Triangle, VertexState, check_spikes, corner_neighbours,
     pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
@@ -1601,6 +1601,7 @@ pub(crate) fn validate(
     options: &PvtpOptions,
 ) -> Result<(), PvtpError> {
     validate_sources(mesh, sources, options.max_distance)?;
+    check_spikes(mesh)?;
     check_thread_count(if options.threads == 0 {
         // What rayon will take: `RAYON_NUM_THREADS` if a positive number,
         // else the logical CPUs (a pool of thousands takes seconds to

@@ -16,8 +16,8 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, ResetFront, Shadow, SolverSetup, Source, Stats,
-    Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours, pseudo_source_window, seeds,
-    validate_sources,
+    Tolerance, Triangle, VertexQueue, VertexState, check_spikes, corner_neighbours,
+    pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 
@@ -128,6 +128,7 @@ pub(crate) fn solve(
 
 fn validate(mesh: &Mesh, sources: &[Source], options: &VtpOptions) -> Result<(), VtpError> {
     validate_sources(mesh, sources, options.max_distance)?;
+    check_spikes(mesh)?;
     if let Some(r) = options.reset
         && !r.is_usable()
     {
