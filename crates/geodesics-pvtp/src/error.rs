@@ -10,7 +10,8 @@ pub enum PvtpError {
     /// A source, or the distance limit, was refused.
     #[error(transparent)]
     Source(#[from] SourceError),
-    /// The mesh has a spike the windows would wind around without end.
+    /// The mesh has a needle-like vertex that windows would wind around
+    /// (see [`geodesics_window::check_spikes`]).
     #[error(transparent)]
     Spike(#[from] SpikeError),
     /// The PAVTP reset parameters are not usable.

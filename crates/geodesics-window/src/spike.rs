@@ -1,6 +1,6 @@
 //! The one kind of vertex the window-list solvers (VTP and its variants,
-//! PVTP, AVTP, ICH) refuse: a spike so thin that windows would wind around
-//! it without end.
+//! PVTP, AVTP, ICH) refuse: a spike so thin that windows winding around it
+//! would make the solve crawl or never end.
 //!
 //! Around an interior vertex whose faces meet at a total angle `θ`, the
 //! unfolded faces form a wedge of angle `θ`, and a window turning around the
@@ -30,7 +30,7 @@ pub const MIN_CONE_ANGLE: f64 = 1e-3;
 /// A vertex too sharp for the window-list solvers.
 #[derive(Clone, Debug, Error, PartialEq)]
 #[error(
-    "vertex {vertex} is a spike: its faces meet at {angle:.2e} rad in total, below {min:e}; windows would wind around it without end (flatten or remove it, or use MMP, which has no such limit)",
+    "vertex {vertex} is a spike: its faces meet at {angle:.2e} rad in total, below {min:e}; windows winding around it would make the solve crawl or never end (flatten or remove it, or use MMP, which has no such limit)",
     min = MIN_CONE_ANGLE
 )]
 pub struct SpikeError {
