@@ -44,6 +44,14 @@ struct InfoReport<'a> {
     bbox_diagonal: f64,
     bbox_min: [f64; 3],
     bbox_max: [f64; 3],
+    /// What the solvers' tolerances scale with: the diagonal unless a few
+    /// far-out vertices inflate it (`Mesh::length_scale`).
+    length_scale: f64,
+    /// The interior vertex (input numbering) whose faces meet at the least
+    /// total angle, and that angle (`geodesics::sharpest_vertex`); below
+    /// `geodesics::MIN_CONE_ANGLE` only MMP solves the mesh.
+    sharpest_vertex: Option<u32>,
+    sharpest_angle: Option<f64>,
     load_seconds: f64,
     build_seconds: f64,
 }
@@ -52,6 +60,7 @@ struct InfoReport<'a> {
 pub fn run(args: &InfoArgs) -> Result<()> {
     let loaded = args.input.load()?;
     let s = loaded.mesh.summary();
+    let sharpest = geodesics::sharpest_vertex(&loaded.mesh);
     let report = InfoReport {
         mesh: &loaded.name,
         vertices: s.vertices,
@@ -78,6 +87,9 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         bbox_diagonal: s.bbox_diagonal,
         bbox_min: s.bbox_min,
         bbox_max: s.bbox_max,
+        length_scale: loaded.mesh.length_scale(),
+        sharpest_vertex: sharpest.map(|(v, _)| v),
+        sharpest_angle: sharpest.map(|(_, a)| a),
         load_seconds: loaded.load_seconds,
         build_seconds: loaded.build_seconds,
     };
@@ -129,6 +141,27 @@ fn table(r: &InfoReport) -> String {
             ),
         ),
         ("bbox diagonal", format!("{:.6}", r.bbox_diagonal)),
+        (
+            "length scale",
+            if r.length_scale == r.bbox_diagonal {
+                "the diagonal".to_string()
+            } else {
+                format!(
+                    "{:.6} (a few vertices lie far out of proportion)",
+                    r.length_scale
+                )
+            },
+        ),
+        (
+            "sharpest vertex",
+            match (r.sharpest_vertex, r.sharpest_angle) {
+                (Some(v), Some(a)) if a < geodesics::MIN_CONE_ANGLE => {
+                    format!("{v}, faces meet at {a:.2e} rad: a needle, only mmp solves this mesh")
+                }
+                (Some(v), Some(a)) => format!("{v}, faces meet at {a:.3} rad"),
+                _ => "none (every vertex is on a boundary)".to_string(),
+            },
+        ),
         (
             "time",
             format!(

@@ -378,3 +378,53 @@ fn a_solve_without_propagations_prints_no_time_per_propagation() {
     assert!(!stdout.contains("ns each"), "{stdout}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A bipyramid over a square, apex 1e12 above it: a needle.
+fn write_needle(path: &Path) {
+    let text = "OFF\n6 8 0\n1 0 0\n0 1 0\n-1 0 0\n0 -1 0\n0 0 1e12\n0 0 -1\n\
+                3 0 1 4\n3 1 2 4\n3 2 3 4\n3 3 0 4\n3 1 0 5\n3 2 1 5\n3 3 2 5\n3 0 3 5\n";
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn a_needle_is_refused_by_name_solved_by_mmp_and_flagged_by_info() {
+    let dir = scratch("needle");
+    let mesh = dir.join("needle.off");
+    write_needle(&mesh);
+    let out = dir.join("d.txt");
+    for algorithm in ["vtp", "pvtp-regions", "avtp", "ich"] {
+        let stderr = refuse(&[
+            "distance",
+            s(&mesh),
+            "--algorithm",
+            algorithm,
+            "--output",
+            s(&out),
+        ]);
+        assert!(
+            stderr.contains("vertex 4 is a spike"),
+            "{algorithm}: {stderr}"
+        );
+        assert!(!out.exists(), "{algorithm}: nothing written");
+    }
+    ok(&geodesics(&[
+        "distance",
+        s(&mesh),
+        "--algorithm",
+        "mmp",
+        "--output",
+        s(&out),
+    ]));
+    let d = read_distances(&out);
+    // From vertex 0 straight up the face to the tip.
+    assert!((d[4] - (1e24f64 + 1.0).sqrt()).abs() <= 1e-12 * d[4]);
+    let info: Value = serde_json::from_str(&ok(&geodesics(&["info", s(&mesh), "--json"]))).unwrap();
+    assert_eq!(info["sharpest_vertex"], 4);
+    assert!(info["sharpest_angle"].as_f64().unwrap() < 1e-11);
+    let table = ok(&geodesics(&["info", s(&mesh)]));
+    assert!(
+        table.contains("a needle, only mmp solves this mesh"),
+        "{table}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

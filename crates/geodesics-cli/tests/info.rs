@@ -81,6 +81,8 @@ fn info_json_reproduces_the_readme_table_on_every_real_mesh() {
             "boundary_vertices",
             "anisotropy_mean",
             "bbox_diagonal",
+            "length_scale",
+            "sharpest_angle",
         ] {
             assert!(v[key].is_number(), "{what}: {key} missing");
         }

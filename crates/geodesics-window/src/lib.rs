@@ -76,7 +76,7 @@ pub use shadow::{ALL_RAYS, Arrival, Shadow, corner_neighbours, pseudo_source_win
 pub use sources::{
     Seeds, SourceError, SourceStart, barycentric_ok, seeds, source_start, validate_sources,
 };
-pub use spike::{MIN_CONE_ANGLE, SpikeError, check_spikes};
+pub use spike::{MIN_CONE_ANGLE, SpikeError, check_spikes, sharpest_vertex};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
 pub use window::{EndedWindow, Triangle, Window};

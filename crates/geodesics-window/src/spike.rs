@@ -69,27 +69,46 @@ pub struct SpikeError {
 /// # Ok::<(), geodesics_mesh::MeshError>(())
 /// ```
 pub fn check_spikes(mesh: &Mesh) -> Result<(), SpikeError> {
+    match sharpest_vertex(mesh) {
+        Some((vertex, angle)) if angle < MIN_CONE_ANGLE => Err(SpikeError { vertex, angle }),
+        _ => Ok(()),
+    }
+}
+
+/// The interior vertex whose faces meet at the least total angle, among
+/// those windows could wind around (none beside a face they cannot
+/// cross), with that angle; the vertex in the input's numbering. `None`
+/// if every vertex is on a boundary.
+///
+/// ```
+/// use geodesics_mesh::{BuildOptions, Mesh};
+/// use geodesics_window::sharpest_vertex;
+///
+/// // An icosahedron: five equilateral triangles at every vertex.
+/// let ico = Mesh::build(geodesics_shapes::icosphere(0, 1.0), &BuildOptions::default())?;
+/// let (_, angle) = sharpest_vertex(&ico).expect("a closed mesh");
+/// assert!((angle - 5.0 * std::f64::consts::PI / 3.0).abs() < 1e-12);
+/// # Ok::<(), geodesics_mesh::MeshError>(())
+/// ```
+pub fn sharpest_vertex(mesh: &Mesh) -> Option<(u32, f64)> {
     let mut sharpest: Option<(u32, f64)> = None;
     for v in 0..mesh.vertex_count() as u32 {
         let angle = mesh.angle_sum(v);
-        if angle >= MIN_CONE_ANGLE || mesh.is_boundary(v) || mesh.fan(v).is_empty() {
+        if sharpest.is_some_and(|(_, a)| angle >= a)
+            || mesh.is_boundary(v)
+            || mesh.fan(v).is_empty()
+        {
             continue;
         }
         let blocked = mesh
             .fan(v)
             .iter()
             .any(|&h| mesh.face_kind(Mesh::face_of(h)) == FaceKind::Blocked);
-        if !blocked && sharpest.is_none_or(|(_, a)| angle < a) {
+        if !blocked {
             sharpest = Some((v, angle));
         }
     }
-    match sharpest {
-        None => Ok(()),
-        Some((v, angle)) => Err(SpikeError {
-            vertex: mesh.pinch_origin(v),
-            angle,
-        }),
-    }
+    sharpest.map(|(v, angle)| (mesh.pinch_origin(v), angle))
 }
 
 #[cfg(test)]

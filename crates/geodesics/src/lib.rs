@@ -40,7 +40,8 @@ pub use geodesics_pvtp::{PvtpError, PvtpOptions, Schedule as PvtpSchedule};
 pub use geodesics_vtp::PathError;
 pub use geodesics_vtp::{Merge, PairRule, Pruning, Rule1, Schedule, VtpError, VtpOptions};
 pub use geodesics_window::{
-    DistanceField, GeodesicPath, NO_SOURCE, Progress, Source, Stats, SurfacePoint,
+    DistanceField, GeodesicPath, MIN_CONE_ANGLE, NO_SOURCE, Progress, Source, SpikeError, Stats,
+    SurfacePoint, check_spikes, sharpest_vertex,
 };
 
 /// Errors of the facade: one per solver crate, plus bad algorithm names.
