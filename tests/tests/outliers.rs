@@ -12,7 +12,7 @@
 
 use geodesics::{Algorithm, compute};
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
-use geodesics_shapes::flat_grid;
+use geodesics_shapes::{bipyramid, flat_grid};
 use geodesics_window::Source;
 use glam::DVec3;
 
@@ -83,31 +83,10 @@ fn a_far_vertex_leaves_the_tolerance_and_the_work_of_the_rest() {
     }
 }
 
-/// A bipyramid over a regular octagon of radius 1: apex at height `h`.
+/// A bipyramid over a regular octagon of radius 1: tip (vertex 8) at
+/// height `h`.
 fn needle(h: f64) -> Mesh {
-    let step = std::f64::consts::TAU / 8.0;
-    let mut positions: Vec<DVec3> = (0..8)
-        .map(|i| {
-            DVec3::new(
-                (step * f64::from(i)).cos(),
-                (step * f64::from(i)).sin(),
-                0.0,
-            )
-        })
-        .collect();
-    positions.push(DVec3::new(0.0, 0.0, h));
-    positions.push(DVec3::new(0.0, 0.0, -1.0));
-    let triangles = (0..8)
-        .flat_map(|i| [[i, (i + 1) % 8, 8], [(i + 1) % 8, i, 9]])
-        .collect();
-    Mesh::build(
-        IndexedTriangles {
-            positions,
-            triangles,
-        },
-        &BuildOptions::default(),
-    )
-    .unwrap()
+    Mesh::build(bipyramid(8, 1.0, h), &BuildOptions::default()).unwrap()
 }
 
 #[test]

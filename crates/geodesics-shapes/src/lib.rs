@@ -14,6 +14,7 @@
 //! | [`regular_torus`] | torus of revolution, uniform quads split alike | `M·N`, `2MN` | 0 |
 //! | [`flat_grid`] | planar square grid in z = 0 | `(nx+1)(ny+1)`, `2·nx·ny` | 1 |
 //! | [`jittered_flat_grid`] | the same, vertices randomly moved in the rectangle | same | 1 |
+//! | [`bipyramid`] | double cone over a regular polygon, its tip as sharp as asked | `n+2`, `2n` | 2 |
 //!
 //! and two subdivision schemes that keep the old vertex numbering and append
 //! one vertex per edge: [`loop_subdivide`] (smooth) and
@@ -52,6 +53,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod bipyramid;
 mod grid;
 mod rng;
 mod simplify;
@@ -61,6 +63,7 @@ mod subdivide;
 mod topology;
 mod torus;
 
+pub use bipyramid::bipyramid;
 pub use geodesics_mesh::IndexedTriangles;
 pub use grid::{MAX_GRID_JITTER, flat_grid, jittered_flat_grid};
 pub use rng::SplitMix64;

@@ -115,33 +115,10 @@ pub fn sharpest_vertex(mesh: &Mesh) -> Option<(u32, f64)> {
 mod tests {
     use super::*;
     use geodesics_mesh::{BuildOptions, IndexedTriangles};
-    use glam::DVec3;
 
-    /// A bipyramid over a regular `n`-gon of radius `r`: apex at height
-    /// `h` above it, the other below at depth `r`.
     fn bipyramid(n: u32, r: f64, h: f64) -> Mesh {
-        let step = std::f64::consts::TAU / f64::from(n);
-        let mut positions: Vec<DVec3> = (0..n)
-            .map(|i| {
-                DVec3::new(
-                    r * (step * f64::from(i)).cos(),
-                    r * (step * f64::from(i)).sin(),
-                    0.0,
-                )
-            })
-            .collect();
-        positions.push(DVec3::new(0.0, 0.0, h));
-        positions.push(DVec3::new(0.0, 0.0, -r));
-        let mut triangles = Vec::new();
-        for i in 0..n {
-            triangles.push([i, (i + 1) % n, n]);
-            triangles.push([(i + 1) % n, i, n + 1]);
-        }
         Mesh::build(
-            IndexedTriangles {
-                positions,
-                triangles,
-            },
+            geodesics_shapes::bipyramid(n, r, h),
             &BuildOptions::default(),
         )
         .expect("a bipyramid is a closed manifold")
