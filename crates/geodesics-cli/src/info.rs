@@ -159,7 +159,7 @@ fn table(r: &InfoReport) -> String {
                     format!("{v}, faces meet at {a:.2e} rad: a needle, only mmp solves this mesh")
                 }
                 (Some(v), Some(a)) => format!("{v}, faces meet at {a:.3} rad"),
-                _ => "none (every vertex is on a boundary)".to_string(),
+                _ => "none (no interior vertex)".to_string(),
             },
         ),
         (
