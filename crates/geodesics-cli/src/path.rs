@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::Args;
 use geodesics::{Algorithm, GeodesicPath, Mesh, Source, SurfacePoint};
 use serde::Serialize;
@@ -57,7 +57,8 @@ pub fn run(args: &PathArgs) -> Result<()> {
     let label = format!("{}, {}", loaded.name, algorithm.name());
     let path = crate::progress::while_solving(&label, &progress, || {
         geodesics::shortest_path(&loaded.mesh, &sources, args.target, &algorithm)
-    })?;
+    })
+    .with_context(|| loaded.name.clone())?;
     if let (Some(out), Some(format)) = (&args.output, format) {
         let bytes = format.render(&loaded.mesh, &path, args.target);
         geodesics::io::write_bytes_atomic(out, &bytes, &protected)?;

@@ -421,6 +421,20 @@ fn a_needle_is_refused_by_name_solved_by_mmp_and_flagged_by_info() {
     let info: Value = serde_json::from_str(&ok(&geodesics(&["info", s(&mesh), "--json"]))).unwrap();
     assert_eq!(info["sharpest_vertex"], 4);
     assert!(info["sharpest_angle"].as_f64().unwrap() < 1e-11);
+    // `path` refuses it the same way, naming the file too, and MMP traces it.
+    let stderr = refuse(&["path", s(&mesh), "--target", "4"]);
+    assert!(
+        stderr.contains("needle.off: vertex 4 is a spike"),
+        "{stderr}"
+    );
+    ok(&geodesics(&[
+        "path",
+        s(&mesh),
+        "--target",
+        "4",
+        "--algorithm",
+        "mmp",
+    ]));
     let table = ok(&geodesics(&["info", s(&mesh)]));
     assert!(
         table.contains("a needle, only mmp solves this mesh"),
