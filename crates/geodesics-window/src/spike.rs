@@ -94,14 +94,11 @@ pub fn sharpest_vertex(mesh: &Mesh) -> Option<(u32, f64)> {
     let mut sharpest: Option<(u32, f64)> = None;
     for v in 0..mesh.vertex_count() as u32 {
         let angle = mesh.angle_sum(v);
-        if sharpest.is_some_and(|(_, a)| angle >= a)
-            || mesh.is_boundary(v)
-            || mesh.fan(v).is_empty()
-        {
+        let fan = mesh.fan(v);
+        if sharpest.is_some_and(|(_, a)| angle >= a) || mesh.is_boundary(v) || fan.is_empty() {
             continue;
         }
-        let blocked = mesh
-            .fan(v)
+        let blocked = fan
             .iter()
             .any(|&h| mesh.face_kind(Mesh::face_of(h)) == FaceKind::Blocked);
         if !blocked {
