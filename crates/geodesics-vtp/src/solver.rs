@@ -348,6 +348,8 @@ impl<'a> Solver<'a> {
                         continue;
                     }
                     mesh.prefetch_fan(u);
+                    // Its angle sum, which a shadowed emission reads.
+                    mesh.prefetch_vertex(u);
                     geodesics_mesh::prefetch(&self.verts, u as usize);
                     geodesics_mesh::prefetch(&self.arrival, u as usize);
                 }
