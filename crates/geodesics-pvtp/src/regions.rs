@@ -91,8 +91,7 @@ struct LocalFace {
 /// The list word of local half-edge `lh` (see `face_lists`).
 #[inline]
 fn list_word(faces: &mut [LocalFace], lh: u32) -> &mut u32 {
-    let lf = lh / 3;
-    &mut faces[lf as usize].lists[(lh - 3 * lf) as usize]
+    &mut faces[(lh / 3) as usize].lists[(lh % 3) as usize]
 }
 
 /// A region's fixed layout: the copies of its faces' corners and where
