@@ -79,4 +79,4 @@ pub use sources::{
 pub use spike::{MIN_CONE_ANGLE, SpikeError, check_spikes, sharpest_vertex};
 pub use tolerance::Tolerance;
 pub use types::{DistanceField, NO_SOURCE, Source, Stats, WindowReset};
-pub use window::{EndedWindow, Triangle, Window};
+pub use window::{EndedWindow, Triangle, Window, keep_within};

@@ -132,6 +132,20 @@ impl EndedWindow {
         (t, sp, d)
     }
 
+    /// The least distance of any point of the interval, `σ` plus the
+    /// distance from the pseudo-source to the segment `[b0, b1]`: a lower
+    /// bound for every path continuing through the window (each crosses
+    /// the interval in a straight line from `p`).
+    #[inline]
+    pub fn least_distance(&self) -> f64 {
+        let w = &self.window;
+        if w.b0 <= w.p.x && w.p.x <= w.b1 {
+            w.sigma + w.p.y.abs()
+        } else {
+            self.d0.min(self.d1)
+        }
+    }
+
     /// Moves the start of the interval to `b0`.
     #[inline]
     pub fn set_start(&mut self, b0: f64) {
@@ -407,6 +421,23 @@ impl Window {
     }
 }
 
+/// Moves the windows that reach within `limit` (whose
+/// [`EndedWindow::least_distance`] is at most `limit`) to the front of
+/// `windows`, in order, and returns how many they are: the others lead
+/// only to points beyond the limit, which a solve with a distance limit
+/// reports unreachable anyway.
+#[inline]
+pub fn keep_within(windows: &mut [EndedWindow], limit: f64) -> usize {
+    let mut kept = 0;
+    for i in 0..windows.len() {
+        if windows[i].least_distance() <= limit {
+            windows[kept] = windows[i];
+            kept += 1;
+        }
+    }
+    kept
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -435,6 +466,42 @@ mod tests {
         let w = win(0.0, 2.0, DVec2::new(1.0, -1.0));
         assert!(close(w.distance_at(1.0), 1.5));
         assert!(close(w.distance_at(2.0), 0.5 + 2f64.sqrt()));
+    }
+
+    #[test]
+    fn least_distance_is_at_the_foot_of_the_source_or_the_nearer_end() {
+        // Source below the interval: the foot of its perpendicular.
+        let e = EndedWindow::new(win(0.0, 2.0, DVec2::new(1.5, -1.0)));
+        assert!(close(e.least_distance(), 1.5));
+        // Source beyond either end: that end.
+        let e = EndedWindow::new(win(0.0, 1.0, DVec2::new(3.0, -1.0)));
+        assert!(close(e.least_distance(), 0.5 + 5f64.sqrt()));
+        let e = EndedWindow::new(win(1.0, 2.0, DVec2::new(-1.0, -1.0)));
+        assert!(close(e.least_distance(), 0.5 + 5f64.sqrt()));
+        // No point of the interval is nearer, sampled.
+        for e in [e, EndedWindow::new(win(0.2, 1.7, DVec2::new(0.9, -0.3)))] {
+            for k in 0..=100 {
+                let x = e.window.b0 + e.window.width() * f64::from(k) / 100.0;
+                assert!(e.window.distance_at(x) >= e.least_distance() - 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn keep_within_keeps_the_windows_reaching_the_limit_in_order() {
+        let near = |b0: f64| EndedWindow::new(win(b0, b0 + 0.5, DVec2::new(b0 + 0.2, -1.0)));
+        let far = EndedWindow::new(win(0.0, 1.0, DVec2::new(0.5, -9.0)));
+        let mut windows = [far, near(0.0), far, near(1.0), near(2.0), far];
+        // The near ones reach 1.5; the far one 9.5.
+        assert_eq!(keep_within(&mut windows, 2.0), 3);
+        assert_eq!(windows[..3], [near(0.0), near(1.0), near(2.0)]);
+        let mut windows = [far, near(0.0)];
+        assert_eq!(
+            keep_within(&mut windows, 1.5),
+            1,
+            "a window at the limit stays"
+        );
+        assert_eq!(keep_within(&mut windows, 1.0), 0);
     }
 
     #[test]
