@@ -16,7 +16,7 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, ResetFront, Shadow, SolverSetup, Source, Stats,
-    Tolerance, Triangle, VertexQueue, VertexState, check_spikes, corner_neighbours,
+    Tolerance, Triangle, VertexQueue, VertexState, check_spikes, corner_neighbours, keep_within,
     pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
@@ -91,6 +91,8 @@ struct Solver<'a> {
     /// The default merge (adjacent pairs, lists in edge order), decided
     /// once: the options sit behind a pointer and every append asks.
     sorted_merge: bool,
+    /// The distance limit (infinite: none), read by every append.
+    limit: f64,
     /// FTP: faces waiting to be traversed, by their best apex distance.
     face_heap: BinaryHeap<Reverse<(u64, u32)>>,
     face_key: Vec<f64>,
@@ -186,6 +188,7 @@ impl<'a> Solver<'a> {
             reset: options.reset.map(|r| ResetFront::new(r, mean_edge, nv)),
             sorted_merge: options.pruning.pairs == PairRule::Adjacent
                 && options.merge == Merge::Sorted,
+            limit: options.max_distance.unwrap_or(f64::INFINITY),
             face_heap: BinaryHeap::new(),
             prefetched: [NONE; UPCOMING],
             face_key: if options.schedule == Schedule::FaceSorted {
@@ -315,18 +318,21 @@ impl<'a> Solver<'a> {
             let vi = v as usize;
             let d = f64::from_bits(key);
             debug_assert_eq!(key, self.verts[vi].dist.to_bits(), "keys follow distances");
-            if let Some(m) = self.options.max_distance
-                && d > m
-            {
-                break;
-            }
-            if self.reset.as_ref().is_some_and(|r| r.is_due(d)) {
+            // A vertex beyond the distance limit still lets the windows
+            // waiting around it through: a long edge whose ends both lie
+            // beyond it may carry windows that reach nearer vertices past
+            // it, and its lists are processed only once an end is popped.
+            // It emits nothing (its windows could reach nothing within the
+            // limit); windows beyond the limit are dropped as they come
+            // (`append`), so the solve still ends soon after the limit.
+            let beyond = d > self.limit;
+            if !beyond && self.reset.as_ref().is_some_and(|r| r.is_due(d)) {
                 self.reset_windows(d);
             }
             // Read after the reset, which may have made v a pseudo-source.
             let x = self.verts[vi];
             let first = !x.inside;
-            let emit = x.must_emit(d, &self.tol);
+            let emit = !beyond && x.must_emit(d, &self.tol);
             if !first && !emit {
                 continue;
             }
@@ -334,8 +340,10 @@ impl<'a> Solver<'a> {
             self.stats.vertex_pops += 1;
             if first {
                 self.verts[vi].inside = true;
-                self.settled += 1;
-                self.options.progress.note_reached(self.settled);
+                if !beyond {
+                    self.settled += 1;
+                    self.options.progress.note_reached(self.settled);
+                }
             }
             if first && !face_sorted {
                 // The next vertex's faces load while this one's lists
@@ -399,12 +407,6 @@ impl<'a> Solver<'a> {
         let next_vertex = self.heap.peek().map(|(k, _)| f64::from_bits(k));
         let d = f64::from_bits(key);
         if next_vertex.is_some_and(|v| v < d) {
-            return false;
-        }
-        if self.options.max_distance.is_some_and(|m| d > m) {
-            // Everything left is farther: the vertex queue is too.
-            self.face_heap.clear();
-            self.heap.clear();
             return false;
         }
         self.face_heap.pop();
@@ -550,7 +552,11 @@ impl<'a> Solver<'a> {
     /// callers know them, and reading them from `h`'s record would cost a
     /// cache miss per append (the face beyond is usually not in cache).
     #[inline(always)]
-    fn append(&mut self, h: u32, ends: [u32; 2], windows: &mut [EndedWindow]) {
+    fn append(&mut self, h: u32, ends: [u32; 2], mut windows: &mut [EndedWindow]) {
+        if self.limit < f64::INFINITY {
+            let n = keep_within(windows, self.limit);
+            windows = &mut windows[..n];
+        }
         if windows.is_empty() {
             return;
         }
