@@ -552,11 +552,8 @@ impl<'a> Solver<'a> {
     /// callers know them, and reading them from `h`'s record would cost a
     /// cache miss per append (the face beyond is usually not in cache).
     #[inline(always)]
-    fn append(&mut self, h: u32, ends: [u32; 2], mut windows: &mut [EndedWindow]) {
-        if self.limit < f64::INFINITY {
-            let n = keep_within(windows, self.limit);
-            windows = &mut windows[..n];
-        }
+    fn append(&mut self, h: u32, ends: [u32; 2], windows: &mut [EndedWindow]) {
+        let windows = keep_within(windows, self.limit);
         if windows.is_empty() {
             return;
         }

@@ -421,13 +421,16 @@ impl Window {
     }
 }
 
-/// Moves the windows that reach within `limit` (whose
-/// [`EndedWindow::least_distance`] is at most `limit`) to the front of
-/// `windows`, in order, and returns how many they are: the others lead
-/// only to points beyond the limit, which a solve with a distance limit
-/// reports unreachable anyway.
+/// The windows that reach within `limit` (whose
+/// [`EndedWindow::least_distance`] is at most `limit`), moved to the front
+/// of `windows` in order: the others lead only to points beyond the limit,
+/// which a solve with a distance limit reports unreachable anyway. With an
+/// infinite limit, all of `windows` (not scanned).
 #[inline]
-pub fn keep_within(windows: &mut [EndedWindow], limit: f64) -> usize {
+pub fn keep_within(windows: &mut [EndedWindow], limit: f64) -> &mut [EndedWindow] {
+    if limit == f64::INFINITY {
+        return windows;
+    }
     let mut kept = 0;
     for i in 0..windows.len() {
         if windows[i].least_distance() <= limit {
@@ -435,7 +438,7 @@ pub fn keep_within(windows: &mut [EndedWindow], limit: f64) -> usize {
             kept += 1;
         }
     }
-    kept
+    &mut windows[..kept]
 }
 
 #[cfg(test)]
@@ -493,15 +496,14 @@ mod tests {
         let far = EndedWindow::new(win(0.0, 1.0, DVec2::new(0.5, -9.0)));
         let mut windows = [far, near(0.0), far, near(1.0), near(2.0), far];
         // The near ones reach 1.5; the far one 9.5.
-        assert_eq!(keep_within(&mut windows, 2.0), 3);
-        assert_eq!(windows[..3], [near(0.0), near(1.0), near(2.0)]);
-        let mut windows = [far, near(0.0)];
         assert_eq!(
-            keep_within(&mut windows, 1.5),
-            1,
-            "a window at the limit stays"
+            keep_within(&mut windows, 2.0),
+            [near(0.0), near(1.0), near(2.0)]
         );
-        assert_eq!(keep_within(&mut windows, 1.0), 0);
+        let mut windows = [far, near(0.0)];
+        assert_eq!(keep_within(&mut windows, f64::INFINITY).len(), 2);
+        assert_eq!(keep_within(&mut windows, 1.5), [near(0.0)], "at the limit");
+        assert!(keep_within(&mut windows, 1.0).is_empty());
     }
 
     #[test]
