@@ -41,7 +41,7 @@ use geodesics_window::prune::{MergeBuffers, apex_paths, beaten_from_edge_ends, m
 use geodesics_window::{
     ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, NO_SOURCE, Progress, Shadow,
     SolverSetup, Source, Stats, Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours,
-    pseudo_source_window, seeds,
+    keep_within, pseudo_source_window, seeds,
 };
 use rayon::prelude::*;
 
@@ -139,6 +139,9 @@ struct Region {
     spare_letters: Vec<Letter>,
     /// The sources' windows, merged in the first band.
     seed_windows: Vec<(u32, EndedWindow)>,
+    /// The distance limit (infinite: none): windows reaching nothing
+    /// within it are dropped as they are appended.
+    limit: f64,
     /// AVTP: slots reached while outside (the wavefront), those reset,
     /// and lists between two reset slots that grew since the last reset.
     resets: bool,
@@ -286,9 +289,13 @@ pub(crate) fn solve(
         .take()
         .unwrap_or_else(|| build(mesh, REGION_CELL_EDGES * h));
     let resets = options.reset.is_some();
-    prep.regions
-        .par_iter_mut()
-        .for_each(|r| r.restart(&prep.setup, resets));
+    prep.regions.par_iter_mut().for_each(|r| {
+        r.restart(
+            &prep.setup,
+            resets,
+            options.max_distance.unwrap_or(f64::INFINITY),
+        )
+    });
     let mut regions = std::mem::take(&mut prep.regions);
     let copies = &prep.copies;
     let shared = Shared {
@@ -673,6 +680,7 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                 last_letter: 0,
                 spare_letters: Vec::new(),
                 seed_windows: Vec::new(),
+                limit: f64::INFINITY,
                 resets: false,
                 front: Vec::new(),
                 is_reset: Vec::new(),
@@ -750,16 +758,17 @@ impl Driver {
             self.peak_live = self.peak_live.max(live);
             self.progress
                 .set_reached(post.settled.load(Ordering::Relaxed));
-            // Done when nothing is queued within the limit and no mail waits.
-            let queued = least.is_finite() && least <= shared.max_distance;
-            if !queued && !mail {
+            // Done when nothing is queued and no mail waits. (Slots beyond
+            // the distance limit are popped too: the lists around them may
+            // still reach within it; see `Region::run`.)
+            if !least.is_finite() && !mail {
                 break;
             }
             // AVTP (Algorithm 3 of Du et al.): the wavefront passed the
             // next multiple of λh.
             let mut guard = None;
             if let Some((step, guard_band)) = self.reset_step
-                && least.is_finite()
+                && least <= shared.max_distance
                 && least >= self.next_reset
             {
                 let steps = (least / step).floor();
@@ -853,8 +862,10 @@ const MAX_SPARE_LISTS: usize = 1 << 14;
 impl Region {
     /// Sets the region up for a new solve, as its layout left it: no list,
     /// no face entered, every slot unreached with its vertex's kind from
-    /// `setup`; `resets`: AVTP's resets run (PAVTP). The buffers stay.
-    fn restart(&mut self, setup: &SolverSetup, resets: bool) {
+    /// `setup`; `resets`: AVTP's resets run (PAVTP); `limit`: the distance
+    /// limit (infinite: none). The buffers stay.
+    fn restart(&mut self, setup: &SolverSetup, resets: bool, limit: f64) {
+        self.limit = limit;
         for face in &mut self.faces {
             face.lists = NEW_FACE;
         }
@@ -1095,22 +1106,25 @@ impl Region {
         self.drain(shared);
         loop {
             let d = self.top();
-            if !(d < bound && d <= shared.max_distance) {
+            if !(d < bound) {
                 break;
             }
             let Some((_, s)) = self.heap.pop() else {
                 break;
             };
+            // Beyond the distance limit a slot only lets the lists around
+            // it propagate (see `geodesics-vtp`'s loop); it emits nothing.
+            let beyond = d > self.limit;
             let x = self.slots[s as usize];
             let first = !x.inside;
-            let emit = x.must_emit(d, &self.tol);
+            let emit = !beyond && x.must_emit(d, &self.tol);
             if !first && !emit {
                 continue;
             }
             self.counts.pops += 1;
             if first {
                 self.slots[s as usize].inside = true;
-                if self.lay.primary[s as usize] {
+                if self.lay.primary[s as usize] && !beyond {
                     self.counts.settled += 1;
                 }
                 self.prefetch_upcoming(shared);
@@ -1188,6 +1202,7 @@ impl Region {
     /// passed, as VTP's `append`.
     #[inline(always)]
     fn append(&mut self, lh: u32, ends: [u32; 2], windows: &mut [EndedWindow]) {
+        let windows = keep_within(windows, self.limit);
         if windows.is_empty() {
             return;
         }

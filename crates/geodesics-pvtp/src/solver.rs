@@ -47,7 +47,7 @@ use geodesics_window::prune::{
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Progress, ResetFront, Shadow,
     SolverSetup, Source, Stats, Tolerance, Triangle, VertexState, check_spikes, corner_neighbours,
-    pseudo_source_window, seeds, validate_sources,
+    keep_within, pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 use rayon::prelude::*;
@@ -243,6 +243,9 @@ struct Shared<'a> {
     reset: Option<&'a ResetFront>,
     round: u32,
     phase: u32,
+    /// The distance limit (infinite: none): windows reaching nothing
+    /// within it are dropped as they are appended.
+    limit: f64,
 }
 
 /// What one face job does: which lists it takes and which corners emit.
@@ -580,6 +583,7 @@ fn append_beyond(
     s: &mut Scratch,
     out: &mut JobOut,
 ) {
+    let windows = keep_within(windows, sh.limit);
     if windows.is_empty() {
         return;
     }
@@ -967,6 +971,10 @@ impl<'a> Solver<'a> {
 
     /// Appends to the main list of half-edge `h` outside a phase (seeds).
     fn append_now(&mut self, h: u32, windows: &mut [EndedWindow]) {
+        let windows = keep_within(windows, self.max_distance.unwrap_or(f64::INFINITY));
+        if windows.is_empty() {
+            return;
+        }
         let main = (self.faces[(h / 3) as usize].state[(h % 3) as usize] & 1) as usize;
         let slots = slots_of(&self.faces, h);
         let idx = claim_slot(slots, main, || take_entry(&mut self.free, &mut self.pool));
@@ -1147,6 +1155,7 @@ impl<'a> Solver<'a> {
             reset: self.reset.as_ref(),
             round: self.round,
             phase: self.phase,
+            limit: self.max_distance.unwrap_or(f64::INFINITY),
         }
     }
 
@@ -1182,12 +1191,12 @@ impl<'a> Solver<'a> {
             let Some((d, v)) = self.buckets.peek(|v| verts[v as usize].dist.to_bits()) else {
                 break;
             };
-            if let Some(m) = self.max_distance
-                && d > m
-            {
-                break;
-            }
-            if self.reset.as_ref().is_some_and(|r| r.is_due(d)) {
+            // Beyond the distance limit a vertex only lets the lists
+            // around it propagate (see `geodesics-vtp`'s loop): windows
+            // on a long edge whose ends both lie beyond it may still reach
+            // nearer vertices past it. It emits nothing.
+            let beyond = self.max_distance.is_some_and(|m| d > m);
+            if !beyond && self.reset.as_ref().is_some_and(|r| r.is_due(d)) {
                 self.reset_windows(d);
             }
             self.buckets.pop();
@@ -1198,7 +1207,7 @@ impl<'a> Solver<'a> {
             let vi = v as usize;
             let x = self.verts[vi];
             let first = !x.inside;
-            let emit = x.must_emit(d, &self.tol);
+            let emit = !beyond && x.must_emit(d, &self.tol);
             if !first && !emit {
                 continue;
             }
@@ -1207,7 +1216,9 @@ impl<'a> Solver<'a> {
             self.stats.vertex_pops += 1;
             if first {
                 self.verts[vi].inside = true;
-                self.settled += 1;
+                if !beyond {
+                    self.settled += 1;
+                }
             }
             let fan = self.mesh.fan(v);
             geodesics_mesh::prefetch(fan, 0);
@@ -1244,12 +1255,13 @@ impl<'a> Solver<'a> {
         self.chosen = chosen;
     }
 
-    /// Whether a vertex is left to pop (within the distance limit).
+    /// Whether a vertex is left to pop (beyond the distance limit too:
+    /// the lists around it may still reach within it).
     fn vertices_left(&mut self) -> bool {
         let verts = &self.verts;
         self.buckets
             .peek(|v| verts[v as usize].dist.to_bits())
-            .is_some_and(|(d, _)| self.max_distance.is_none_or(|m| d <= m))
+            .is_some()
     }
 
     /// Asks for the records `select` reads of vertex `u`: its state and
