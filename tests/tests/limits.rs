@@ -83,7 +83,10 @@ fn a_vertex_within_the_limit_behind_a_long_edge_is_reached_by_every_algorithm() 
             limited[5]
         );
         for v in 1..5 {
-            assert!((unlimited[v] - corner).abs() < 1e-9, "{name}: {unlimited:?}");
+            assert!(
+                (unlimited[v] - corner).abs() < 1e-9,
+                "{name}: {unlimited:?}"
+            );
             assert!(
                 limited[v].is_infinite(),
                 "{name}: vertex {v} beyond the limit came out {}",
