@@ -95,3 +95,46 @@ fn a_vertex_within_the_limit_behind_a_long_edge_is_reached_by_every_algorithm() 
         }
     }
 }
+
+/// AVTP and PAVTP with a distance limit and resets well inside it finish,
+/// never fall below the exact field and leave everything beyond the limit
+/// unreachable. (PAVTP's regions once waited for ever once the wavefront
+/// passed both the limit and the next reset radius: no reset happens
+/// beyond the limit, and the band bound stayed capped at that radius.)
+#[test]
+fn avtp_with_a_limit_and_resets_finishes_at_or_above_exact() {
+    let mesh = Mesh::build(
+        geodesics_shapes::flat_grid(40, 40, 1.0),
+        &BuildOptions::default(),
+    )
+    .expect("a flat grid is a valid mesh");
+    let source = 20 * 41 + 20; // the middle
+    let limit = 15.0;
+    let exact = compute(&mesh, &[Source::Vertex(source)], &Algorithm::default())
+        .unwrap()
+        .0
+        .distance;
+    for threads in [None, Some(1), Some(2)] {
+        let options = geodesics::AvtpOptions {
+            threads,
+            max_distance: Some(limit),
+            ..geodesics::AvtpOptions::with_lambda(2.0)
+        };
+        let (field, stats) =
+            compute(&mesh, &[Source::Vertex(source)], &Algorithm::Avtp(options)).unwrap();
+        assert!(stats.window_resets >= 5, "{threads:?}: {stats:?}");
+        for (v, (&d, &e)) in field.distance.iter().zip(&exact).enumerate() {
+            if e > limit + 1e-9 {
+                assert!(d.is_infinite(), "{threads:?}: vertex {v} at {e} is {d}");
+            } else if d.is_finite() {
+                assert!(d >= e - 1e-12, "{threads:?}: vertex {v} {d} below {e}");
+            }
+        }
+        // Within the limit by a margin, every vertex is reached.
+        for (v, &e) in exact.iter().enumerate() {
+            if e < 0.9 * limit {
+                assert!(field.distance[v].is_finite(), "{threads:?}: vertex {v}");
+            }
+        }
+    }
+}

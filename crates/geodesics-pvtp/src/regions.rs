@@ -777,7 +777,15 @@ impl Driver {
                 self.resets += 1;
             }
             if least.is_finite() {
-                bound = (bound.max(least) + self.delta).min(self.next_reset);
+                // A band stops at the next reset radius; beyond the
+                // distance limit no reset comes (and a bound held there
+                // would never let the wavefront pass it).
+                let stop = if least <= shared.max_distance {
+                    self.next_reset
+                } else {
+                    f64::INFINITY
+                };
+                bound = (bound.max(least) + self.delta).min(stop);
             }
             for q in &mut queues {
                 q.clear();
