@@ -137,4 +137,30 @@ fn avtp_with_a_limit_and_resets_finishes_at_or_above_exact() {
             }
         }
     }
+    // The same reset on PVTP's rounds (only through `geodesics-pvtp`).
+    for threads in [1, 2] {
+        let options = geodesics_pvtp::PvtpOptions {
+            threads,
+            max_distance: Some(limit),
+            reset: Some(geodesics_window::WindowReset::every(2.0)),
+            schedule: geodesics_pvtp::Schedule::Rounds,
+            ..Default::default()
+        };
+        let (field, stats) =
+            geodesics_pvtp::solve(&mesh, &[Source::Vertex(source)], &options).unwrap();
+        assert!(stats.window_resets >= 5, "rounds T={threads}: {stats:?}");
+        for (v, (&d, &e)) in field.distance.iter().zip(&exact).enumerate() {
+            if e > limit + 1e-9 {
+                assert!(
+                    d.is_infinite(),
+                    "rounds T={threads}: vertex {v} at {e} is {d}"
+                );
+            } else if e < 0.9 * limit {
+                assert!(
+                    d >= e - 1e-12,
+                    "rounds T={threads}: vertex {v} {d} below {e}"
+                );
+            }
+        }
+    }
 }
