@@ -1209,8 +1209,10 @@ impl Region {
     /// are slots `ends` (Rules 2 and 3), and queues it if an end was
     /// passed, as VTP's `append`.
     #[inline(always)]
-    fn append(&mut self, lh: u32, ends: [u32; 2], windows: &mut [EndedWindow]) {
-        let windows = keep_within(windows, self.limit);
+    fn append(&mut self, lh: u32, ends: [u32; 2], mut windows: &mut [EndedWindow]) {
+        if self.limit < f64::INFINITY {
+            windows = keep_within(windows, self.limit);
+        }
         if windows.is_empty() {
             return;
         }

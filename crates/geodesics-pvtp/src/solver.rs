@@ -583,7 +583,11 @@ fn append_beyond(
     s: &mut Scratch,
     out: &mut JobOut,
 ) {
-    let windows = keep_within(windows, sh.limit);
+    let windows = if sh.limit < f64::INFINITY {
+        keep_within(windows, sh.limit)
+    } else {
+        windows
+    };
     if windows.is_empty() {
         return;
     }
@@ -971,7 +975,10 @@ impl<'a> Solver<'a> {
 
     /// Appends to the main list of half-edge `h` outside a phase (seeds).
     fn append_now(&mut self, h: u32, windows: &mut [EndedWindow]) {
-        let windows = keep_within(windows, self.max_distance.unwrap_or(f64::INFINITY));
+        let windows = match self.max_distance {
+            Some(limit) => keep_within(windows, limit),
+            None => windows,
+        };
         if windows.is_empty() {
             return;
         }

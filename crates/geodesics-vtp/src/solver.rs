@@ -554,7 +554,7 @@ impl<'a> Solver<'a> {
     #[inline(always)]
     fn append(&mut self, h: u32, ends: [u32; 2], mut windows: &mut [EndedWindow]) {
         if self.limit < f64::INFINITY {
-            windows = within_limit(windows, self.limit);
+            windows = keep_within(windows, self.limit);
         }
         if windows.is_empty() {
             return;
@@ -797,15 +797,6 @@ impl<'a> Solver<'a> {
             (self.verts[v].dist, self.verts[v].src)
         })
     }
-}
-
-/// The windows reaching within a distance limit ([`keep_within`]), out of
-/// line: the scan's loop, inlined into every append, cost unlimited solves
-/// 1 % of their instructions (armadillo.obj, cachegrind) in registers.
-#[cold]
-#[inline(never)]
-fn within_limit(windows: &mut [EndedWindow], limit: f64) -> &mut [EndedWindow] {
-    keep_within(windows, limit)
 }
 
 /// The merges of the ablation variants (every pair rule and merge but the

@@ -424,13 +424,14 @@ impl Window {
 /// The windows that reach within `limit` (whose
 /// [`EndedWindow::least_distance`] is at most `limit`), moved to the front
 /// of `windows` in order: the others lead only to points beyond the limit,
-/// which a solve with a distance limit reports unreachable anyway. With an
-/// infinite limit, all of `windows` (not scanned).
-#[inline]
+/// which a solve with a distance limit reports unreachable anyway.
+///
+/// Out of line: solvers call it only when a limit is set, and its loop,
+/// inlined into their appends, cost unlimited solves 1–1.4 % of their
+/// instructions (VTP on armadillo.obj, PAVTP on a coarse Loop×3 bunny).
+#[cold]
+#[inline(never)]
 pub fn keep_within(windows: &mut [EndedWindow], limit: f64) -> &mut [EndedWindow] {
-    if limit == f64::INFINITY {
-        return windows;
-    }
     let mut kept = 0;
     for i in 0..windows.len() {
         if windows[i].least_distance() <= limit {
@@ -502,6 +503,7 @@ mod tests {
         );
         let mut windows = [far, near(0.0)];
         assert_eq!(keep_within(&mut windows, f64::INFINITY).len(), 2);
+        assert_eq!(keep_within(&mut windows, f64::INFINITY), [far, near(0.0)]);
         assert_eq!(keep_within(&mut windows, 1.5), [near(0.0)], "at the limit");
         assert!(keep_within(&mut windows, 1.0).is_empty());
     }
