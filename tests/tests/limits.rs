@@ -96,6 +96,20 @@ fn a_vertex_within_the_limit_behind_a_long_edge_is_reached_by_every_algorithm() 
     }
 }
 
+/// An approximate field under a distance limit: ∞ beyond the limit, never
+/// below `exact` within it, and reached well within it.
+fn assert_cut_at_limit(what: &str, field: &[f64], exact: &[f64], limit: f64) {
+    for (v, (&d, &e)) in field.iter().zip(exact).enumerate() {
+        if e > limit + 1e-9 {
+            assert!(d.is_infinite(), "{what}: vertex {v} at {e} is {d}");
+        } else if d.is_finite() {
+            assert!(d >= e - 1e-12, "{what}: vertex {v} {d} below {e}");
+        } else {
+            assert!(e >= 0.9 * limit, "{what}: vertex {v} at {e} unreached");
+        }
+    }
+}
+
 /// AVTP and PAVTP with a distance limit and resets well inside it finish,
 /// never fall below the exact field and leave everything beyond the limit
 /// unreachable. (PAVTP's regions once waited for ever once the wavefront
@@ -108,9 +122,9 @@ fn avtp_with_a_limit_and_resets_finishes_at_or_above_exact() {
         &BuildOptions::default(),
     )
     .expect("a flat grid is a valid mesh");
-    let source = 20 * 41 + 20; // the middle
+    let source = [Source::Vertex(20 * 41 + 20)]; // the middle
     let limit = 15.0;
-    let exact = compute(&mesh, &[Source::Vertex(source)], &Algorithm::default())
+    let exact = compute(&mesh, &source, &Algorithm::default())
         .unwrap()
         .0
         .distance;
@@ -120,22 +134,9 @@ fn avtp_with_a_limit_and_resets_finishes_at_or_above_exact() {
             max_distance: Some(limit),
             ..geodesics::AvtpOptions::with_lambda(2.0)
         };
-        let (field, stats) =
-            compute(&mesh, &[Source::Vertex(source)], &Algorithm::Avtp(options)).unwrap();
+        let (field, stats) = compute(&mesh, &source, &Algorithm::Avtp(options)).unwrap();
         assert!(stats.window_resets >= 5, "{threads:?}: {stats:?}");
-        for (v, (&d, &e)) in field.distance.iter().zip(&exact).enumerate() {
-            if e > limit + 1e-9 {
-                assert!(d.is_infinite(), "{threads:?}: vertex {v} at {e} is {d}");
-            } else if d.is_finite() {
-                assert!(d >= e - 1e-12, "{threads:?}: vertex {v} {d} below {e}");
-            }
-        }
-        // Within the limit by a margin, every vertex is reached.
-        for (v, &e) in exact.iter().enumerate() {
-            if e < 0.9 * limit {
-                assert!(field.distance[v].is_finite(), "{threads:?}: vertex {v}");
-            }
-        }
+        assert_cut_at_limit(&format!("{threads:?}"), &field.distance, &exact, limit);
     }
     // The same reset on PVTP's rounds (only through `geodesics-pvtp`).
     for threads in [1, 2] {
@@ -146,21 +147,9 @@ fn avtp_with_a_limit_and_resets_finishes_at_or_above_exact() {
             schedule: geodesics_pvtp::Schedule::Rounds,
             ..Default::default()
         };
-        let (field, stats) =
-            geodesics_pvtp::solve(&mesh, &[Source::Vertex(source)], &options).unwrap();
-        assert!(stats.window_resets >= 5, "rounds T={threads}: {stats:?}");
-        for (v, (&d, &e)) in field.distance.iter().zip(&exact).enumerate() {
-            if e > limit + 1e-9 {
-                assert!(
-                    d.is_infinite(),
-                    "rounds T={threads}: vertex {v} at {e} is {d}"
-                );
-            } else if e < 0.9 * limit {
-                assert!(
-                    d >= e - 1e-12,
-                    "rounds T={threads}: vertex {v} {d} below {e}"
-                );
-            }
-        }
+        let (field, stats) = geodesics_pvtp::solve(&mesh, &source, &options).unwrap();
+        let what = format!("rounds T={threads}");
+        assert!(stats.window_resets >= 5, "{what}: {stats:?}");
+        assert_cut_at_limit(&what, &field.distance, &exact, limit);
     }
 }
