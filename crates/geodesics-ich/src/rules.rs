@@ -137,15 +137,6 @@ pub(crate) fn cross(
     out
 }
 
-/// The smallest distance through `w` to a point of its interval: the key of
-/// the window in ICH's priority queue (and FWP's buckets). No child of `w`,
-/// and no vertex it lights, is nearer than this.
-#[inline]
-pub(crate) fn min_distance(w: &Window) -> f64 {
-    let x = w.p.x.clamp(w.b0, w.b1);
-    w.distance_at(if x.is_nan() { w.b0 } else { x })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -339,10 +330,10 @@ mod tests {
     #[test]
     fn the_queue_key_is_the_nearest_point_of_the_interval() {
         let w = win(0.0, 2.0, (1.0, -1.0), 0.5);
-        assert_eq!(min_distance(&w), 1.5);
+        assert_eq!(w.least_distance(), 1.5);
         let w = win(1.5, 2.0, (1.0, -1.0), 0.5);
-        assert!((min_distance(&w) - (0.5 + 1.25f64.sqrt())).abs() < 1e-15);
+        assert!((w.least_distance() - (0.5 + 1.25f64.sqrt())).abs() < 1e-15);
         let w = win(0.0, 0.5, (1.0, -1.0), 0.0);
-        assert!((min_distance(&w) - 1.25f64.sqrt()).abs() < 1e-15);
+        assert!((w.least_distance() - 1.25f64.sqrt()).abs() < 1e-15);
     }
 }

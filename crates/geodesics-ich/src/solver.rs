@@ -216,7 +216,7 @@ impl<'a> Solver<'a> {
         if self.live > self.stats.peak_live_windows {
             self.stats.peak_live_windows = self.live;
         }
-        let key = rules::min_distance(&w);
+        let key = w.least_distance();
         self.queue.push(key, Item::Window(Pending { w, h, third }));
     }
 

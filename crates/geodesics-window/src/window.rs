@@ -73,6 +73,17 @@ impl Window {
     pub fn lights_face(&self) -> bool {
         self.p.y < 0.0
     }
+
+    /// The least distance through the window to a point of its interval
+    /// (`σ` plus the distance from the pseudo-source to `[b0, b1]`): a lower
+    /// bound for every path continuing through it, since each crosses the
+    /// interval in a straight line from `p`. ICH's queue key; what a
+    /// distance limit drops windows by ([`keep_within`]).
+    #[inline]
+    pub fn least_distance(&self) -> f64 {
+        let x = self.p.x.clamp(self.b0, self.b1);
+        self.distance_at(if x.is_nan() { self.b0 } else { x })
+    }
 }
 
 /// A window with the distances at its two ends kept beside it:
@@ -130,20 +141,6 @@ impl EndedWindow {
             (f64::INFINITY, w.b0)
         };
         (t, sp, d)
-    }
-
-    /// The least distance of any point of the interval, `σ` plus the
-    /// distance from the pseudo-source to the segment `[b0, b1]`: a lower
-    /// bound for every path continuing through the window (each crosses
-    /// the interval in a straight line from `p`).
-    #[inline]
-    pub fn least_distance(&self) -> f64 {
-        let w = &self.window;
-        if w.b0 <= w.p.x && w.p.x <= w.b1 {
-            w.sigma + w.p.y.abs()
-        } else {
-            self.d0.min(self.d1)
-        }
     }
 
     /// Moves the start of the interval to `b0`.
@@ -422,7 +419,7 @@ impl Window {
 }
 
 /// The windows that reach within `limit` (whose
-/// [`EndedWindow::least_distance`] is at most `limit`), moved to the front
+/// [`Window::least_distance`] is at most `limit`), moved to the front
 /// of `windows` in order: the others lead only to points beyond the limit,
 /// which a solve with a distance limit reports unreachable anyway.
 ///
@@ -434,7 +431,7 @@ impl Window {
 pub fn keep_within(windows: &mut [EndedWindow], limit: f64) -> &mut [EndedWindow] {
     let mut kept = 0;
     for i in 0..windows.len() {
-        if windows[i].least_distance() <= limit {
+        if windows[i].window.least_distance() <= limit {
             windows[kept] = windows[i];
             kept += 1;
         }
@@ -475,18 +472,18 @@ mod tests {
     #[test]
     fn least_distance_is_at_the_foot_of_the_source_or_the_nearer_end() {
         // Source below the interval: the foot of its perpendicular.
-        let e = EndedWindow::new(win(0.0, 2.0, DVec2::new(1.5, -1.0)));
-        assert!(close(e.least_distance(), 1.5));
+        let w = win(0.0, 2.0, DVec2::new(1.5, -1.0));
+        assert!(close(w.least_distance(), 1.5));
         // Source beyond either end: that end.
-        let e = EndedWindow::new(win(0.0, 1.0, DVec2::new(3.0, -1.0)));
-        assert!(close(e.least_distance(), 0.5 + 5f64.sqrt()));
-        let e = EndedWindow::new(win(1.0, 2.0, DVec2::new(-1.0, -1.0)));
-        assert!(close(e.least_distance(), 0.5 + 5f64.sqrt()));
+        let w = win(0.0, 1.0, DVec2::new(3.0, -1.0));
+        assert!(close(w.least_distance(), 0.5 + 5f64.sqrt()));
+        let w = win(1.0, 2.0, DVec2::new(-1.0, -1.0));
+        assert!(close(w.least_distance(), 0.5 + 5f64.sqrt()));
         // No point of the interval is nearer, sampled.
-        for e in [e, EndedWindow::new(win(0.2, 1.7, DVec2::new(0.9, -0.3)))] {
+        for w in [w, win(0.2, 1.7, DVec2::new(0.9, -0.3))] {
             for k in 0..=100 {
-                let x = e.window.b0 + e.window.width() * f64::from(k) / 100.0;
-                assert!(e.window.distance_at(x) >= e.least_distance() - 1e-15);
+                let x = w.b0 + w.width() * f64::from(k) / 100.0;
+                assert!(w.distance_at(x) >= w.least_distance() - 1e-15);
             }
         }
     }
