@@ -1211,7 +1211,7 @@ impl Region {
     #[inline(always)]
     fn append(&mut self, lh: u32, ends: [u32; 2], mut windows: &mut [EndedWindow]) {
         if self.limit < f64::INFINITY {
-            windows = keep_within(windows, self.limit);
+            windows = keep_within(windows, self.limit, &self.tol);
         }
         if windows.is_empty() {
             return;

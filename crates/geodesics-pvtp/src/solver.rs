@@ -584,7 +584,7 @@ fn append_beyond(
     out: &mut JobOut,
 ) {
     let windows = if sh.limit < f64::INFINITY {
-        keep_within(windows, sh.limit)
+        keep_within(windows, sh.limit, &sh.tol)
     } else {
         windows
     };
@@ -976,7 +976,7 @@ impl<'a> Solver<'a> {
     /// Appends to the main list of half-edge `h` outside a phase (seeds).
     fn append_now(&mut self, h: u32, windows: &mut [EndedWindow]) {
         let windows = match self.max_distance {
-            Some(limit) => keep_within(windows, limit),
+            Some(limit) => keep_within(windows, limit, &self.tol),
             None => windows,
         };
         if windows.is_empty() {

@@ -554,7 +554,7 @@ impl<'a> Solver<'a> {
     #[inline(always)]
     fn append(&mut self, h: u32, ends: [u32; 2], mut windows: &mut [EndedWindow]) {
         if self.limit < f64::INFINITY {
-            windows = keep_within(windows, self.limit);
+            windows = keep_within(windows, self.limit, &self.tol);
         }
         if windows.is_empty() {
             return;

@@ -9,6 +9,8 @@
 
 use glam::DVec2;
 
+use crate::Tolerance;
+
 /// An interval `[b0, b1]` of a half-edge lit by one pseudo-source.
 ///
 /// A window is a small `Copy` value (48 bytes); solvers keep them in pooled
@@ -419,7 +421,8 @@ impl Window {
 }
 
 /// The windows that reach within `limit` (whose
-/// [`Window::least_distance`] is at most `limit`), moved to the front
+/// [`Window::least_distance`] does not exceed it by more than the
+/// tolerance's margin: [`Tolerance::beats`]), moved to the front
 /// of `windows` in order: the others lead only to points beyond the limit,
 /// which a solve with a distance limit reports unreachable anyway.
 ///
@@ -428,10 +431,14 @@ impl Window {
 /// instructions (VTP on armadillo.obj, PAVTP on a coarse Loop×3 bunny).
 #[cold]
 #[inline(never)]
-pub fn keep_within(windows: &mut [EndedWindow], limit: f64) -> &mut [EndedWindow] {
+pub fn keep_within<'w>(
+    windows: &'w mut [EndedWindow],
+    limit: f64,
+    tol: &Tolerance,
+) -> &'w mut [EndedWindow] {
     let mut kept = 0;
     for i in 0..windows.len() {
-        if windows[i].window.least_distance() <= limit {
+        if !tol.beats(limit, windows[i].window.least_distance()) {
             windows[kept] = windows[i];
             kept += 1;
         }
@@ -490,19 +497,30 @@ mod tests {
 
     #[test]
     fn keep_within_keeps_the_windows_reaching_the_limit_in_order() {
+        let tol = Tolerance::for_scale(1.0);
         let near = |b0: f64| EndedWindow::new(win(b0, b0 + 0.5, DVec2::new(b0 + 0.2, -1.0)));
         let far = EndedWindow::new(win(0.0, 1.0, DVec2::new(0.5, -9.0)));
         let mut windows = [far, near(0.0), far, near(1.0), near(2.0), far];
         // The near ones reach 1.5; the far one 9.5.
         assert_eq!(
-            keep_within(&mut windows, 2.0),
+            keep_within(&mut windows, 2.0, &tol),
             [near(0.0), near(1.0), near(2.0)]
         );
         let mut windows = [far, near(0.0)];
-        assert_eq!(keep_within(&mut windows, f64::INFINITY).len(), 2);
-        assert_eq!(keep_within(&mut windows, f64::INFINITY), [far, near(0.0)]);
-        assert_eq!(keep_within(&mut windows, 1.5), [near(0.0)], "at the limit");
-        assert!(keep_within(&mut windows, 1.0).is_empty());
+        assert_eq!(keep_within(&mut windows, f64::INFINITY, &tol).len(), 2);
+        assert_eq!(
+            keep_within(&mut windows, f64::INFINITY, &tol),
+            [far, near(0.0)]
+        );
+        assert_eq!(
+            keep_within(&mut windows, 1.5, &tol),
+            [near(0.0)],
+            "at the limit"
+        );
+        // Past it by less than the margin: kept (discards need a strict margin).
+        let mut one = [near(0.0)];
+        assert_eq!(keep_within(&mut one, 1.5 - 1e-15, &tol).len(), 1);
+        assert!(keep_within(&mut windows, 1.0, &tol).is_empty());
     }
 
     #[test]
