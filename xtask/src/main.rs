@@ -31,6 +31,12 @@
 //!   to VTP from the same run.
 //! - `cargo xtask load [--runs N]`: read and topology-build times of every
 //!   real mesh.
+//! - `cargo xtask sweep [--cases N] [--seed S] [--meshes a,b,..] [--large]`:
+//!   every solver against our MMP from random sources (vertices, points on
+//!   edges and in faces, several at once, with a distance limit) on every
+//!   mesh, exact ones to 1e-12 of the largest distance, AVTP/PAVTP never
+//!   below exact, paths as long as the distance, symmetry; fails on any
+//!   disagreement (see `sweep.rs`). `--large` adds the dragon.
 //! - `cargo xtask count [--algorithms a,b,..]`: instructions and simulated
 //!   cache misses per solve (valgrind's cachegrind) on `bunny.off` and
 //!   `armadillo.obj`: the same on every run, so they settle a change to a
@@ -61,6 +67,7 @@ mod cores;
 mod count;
 mod pvtp;
 mod report;
+mod sweep;
 mod tables;
 
 use anyhow::{Context, Result, bail, ensure};
@@ -70,7 +77,7 @@ use serde_json::json;
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N] | count [--algorithms a,b]; each also takes --json FILE (the printed numbers as JSON)";
+    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N] | count [--algorithms a,b] | sweep [--cases N] [--seed S] [--meshes a,b] [--large]; each also takes --json FILE (the printed numbers as JSON)";
     let Some(command) = args.first() else {
         eprintln!("{USAGE}");
         return Ok(());
@@ -90,10 +97,19 @@ fn main() -> Result<()> {
         "pvtp" => pvtp::table(runs, large, json()?),
         "load" => load(runs, json()?),
         "count" => count::table(flag_text(&args, "--algorithms"), json()?),
+        "sweep" => sweep::sweep(
+            flag_value(&args, "--cases")?.unwrap_or(5),
+            flag_value(&args, "--seed")?.unwrap_or(1) as u64,
+            flag_text(&args, "--meshes"),
+            large,
+            json()?,
+        ),
         // Run by `count` under cachegrind, not by hand.
         "solve-times" => count::solve_times(&args[1..]),
         other => {
-            bail!("unknown xtask command `{other}` (try: bench, avtp, pvtp, tables, load, count)")
+            bail!(
+                "unknown xtask command `{other}` (try: bench, avtp, pvtp, tables, load, count, sweep)"
+            )
         }
     }
 }
