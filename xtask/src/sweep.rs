@@ -416,7 +416,9 @@ fn run_case(
             return Ok(());
         }
     };
-    let scale = max_finite(&exact);
+    // Never 0, so a field of zeros (a source alone within the limit)
+    // compares as equal rather than as NaN.
+    let scale = max_finite(&exact).max(f64::MIN_POSITIVE);
     if let Some(l) = limit {
         let unlimited = compute(mesh, &sources, &mmp)?.0.distance;
         // Within the limit: the unlimited distance; beyond it by more than
@@ -427,7 +429,7 @@ fn run_case(
         for (lim, full) in exact.iter().zip(&unlimited) {
             if *full <= l - slack {
                 worst = worst.max(if lim.is_finite() {
-                    (lim - full).abs() / scale.max(f64::MIN_POSITIVE)
+                    (lim - full).abs() / scale
                 } else {
                     f64::INFINITY
                 });
