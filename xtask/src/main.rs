@@ -635,15 +635,22 @@ fn memory(report: &mut Report, dir: &Path) -> Result<()> {
     measured
 }
 
-/// `cargo xtask load`: read and build times of every mesh in the folder.
-fn load(runs: usize, json: Option<JsonFile>) -> Result<()> {
-    let dir = data_dir()?;
-    let mut report = Report::new("load", Some(runs), &dir, json)?;
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)?
+/// The mesh files in `folder`, sorted (its README and notes left out).
+pub(crate) fn mesh_files(folder: &Path) -> Result<Vec<PathBuf>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
+        .with_context(|| folder.display().to_string())?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.is_file() && p.extension().is_some_and(|e| e != "md" && e != "jsonl"))
         .collect();
     files.sort();
+    Ok(files)
+}
+
+/// `cargo xtask load`: read and build times of every mesh in the folder.
+fn load(runs: usize, json: Option<JsonFile>) -> Result<()> {
+    let dir = data_dir()?;
+    let mut report = Report::new("load", Some(runs), &dir, json)?;
+    let files = mesh_files(&dir)?;
     report.table(
         Some(format!(
             "Read and topology build, best of {runs} runs, {}",

@@ -27,15 +27,16 @@
 //! It prints one row per check and algorithm with the worst case and where
 //! it happened, and fails when any check fails. Deterministic per `--seed`.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use geodesics::{Algorithm, AvtpOptions, BuildOptions, IndexedTriangles, Mesh, Source, compute};
 use geodesics_shapes::SplitMix64;
+use geodesics_tests::max_finite;
 use glam::DVec3;
 
 use crate::report::{Cell, Column, JsonFile, Report};
-use crate::{data_dir, read};
+use crate::{data_dir, mesh_files, read};
 
 /// Agreement bound of two exact fields, relative to the largest distance.
 const EXACT: f64 = 1e-12;
@@ -49,6 +50,9 @@ enum Kind {
     Several,
     Limited,
 }
+
+/// The kinds a case of several sources, or a limited one, draws from.
+const SINGLE_KINDS: [Kind; 3] = [Kind::Vertex, Kind::EdgePoint, Kind::FacePoint];
 
 const KINDS: [Kind; 5] = [
     Kind::Vertex,
@@ -128,13 +132,8 @@ struct Subject {
     flat: bool,
 }
 
-/// The largest finite distance (0 if none).
-fn max_finite(d: &[f64]) -> f64 {
-    geodesics_tests::max_finite(d)
-}
-
-/// `max |a − b|` over the vertices, relative to `scale`; `∞` if one is
-/// finite where the other is not.
+/// `max |a − b|` over the vertices, relative to `scale` (positive); `∞`
+/// if one is finite where the other is not.
 fn discrepancy(a: &[f64], b: &[f64], scale: f64) -> f64 {
     let mut worst = 0.0f64;
     for (x, y) in a.iter().zip(b) {
@@ -145,11 +144,11 @@ fn discrepancy(a: &[f64], b: &[f64], scale: f64) -> f64 {
             worst = worst.max((x - y).abs());
         }
     }
-    worst / scale.max(f64::MIN_POSITIVE)
+    worst / scale
 }
 
 /// How far `approx` goes below `exact` at worst (positive: below), relative
-/// to `scale`; `∞` if reach differs. With a distance limit an approximate
+/// to `scale` (positive); `∞` if reach differs. With a distance limit an approximate
 /// distance may pass it where the exact one does not: ∞ there is allowed.
 fn below(approx: &[f64], exact: &[f64], scale: f64, limited: bool) -> f64 {
     let mut worst = f64::NEG_INFINITY;
@@ -164,7 +163,7 @@ fn below(approx: &[f64], exact: &[f64], scale: f64, limited: bool) -> f64 {
             worst = worst.max(e - a);
         }
     }
-    worst / scale.max(f64::MIN_POSITIVE)
+    worst / scale
 }
 
 /// The sweep: `cases` cases per mesh (the kinds in turn), from `seed`, on
@@ -247,20 +246,11 @@ fn run(subjects: &[Subject], cases: usize, seed: u64) -> Result<Tally> {
 /// The meshes: every real mesh (the dragon only with `large`), the
 /// synthetic ones, and two procedural ones (the CLI's demo and a flat grid).
 fn subjects(dir: &Path, large: bool, only: Option<&str>) -> Result<Vec<Subject>> {
-    let mut files: Vec<PathBuf> = Vec::new();
-    for folder in [dir.to_path_buf(), dir.join("synthetic")] {
-        let Ok(entries) = std::fs::read_dir(&folder) else {
-            continue;
-        };
-        files.extend(
-            entries
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| {
-                    p.is_file() && p.extension().is_some_and(|e| e != "md" && e != "jsonl")
-                }),
-        );
+    let mut files = mesh_files(dir)?;
+    let synthetic = dir.join("synthetic");
+    if synthetic.is_dir() {
+        files.extend(mesh_files(&synthetic)?);
     }
-    files.sort();
     let wanted = |name: &str| only.is_none_or(|o| o.split(',').any(|w| name.contains(w)));
     let mut subjects = Vec::new();
     for path in files {
@@ -391,8 +381,8 @@ fn run_case(
     };
     for i in 0..singles {
         let single = match kind {
-            Kind::Several => [Kind::Vertex, Kind::EdgePoint, Kind::FacePoint][i % 3],
-            Kind::Limited => KINDS[uniform_index(rng, 3) as usize],
+            Kind::Several => SINGLE_KINDS[i % SINGLE_KINDS.len()],
+            Kind::Limited => SINGLE_KINDS[uniform_index(rng, SINGLE_KINDS.len()) as usize],
             k => k,
         };
         let (s, p, t) = draw_source(mesh, single, rng);
