@@ -19,6 +19,14 @@ use geodesics_mesh::{BuildOptions, Mesh};
 use geodesics_window::Source;
 use serde_json::Value;
 
+/// How far two exact distance fields may differ at any vertex, relative to
+/// the largest finite distance: the exactness bar of the issues (two good
+/// exact codes agree to about 1e-14 in double precision). Every test and
+/// the `xtask sweep` that compares exact solvers uses it; it bounds
+/// assertions and is not a solver tolerance (that policy lives in
+/// `geodesics_window::Tolerance`).
+pub const EXACT: f64 = 1e-12;
+
 /// The folder of real meshes, or `None` (after printing a loud SKIPPED line
 /// naming `what`) when it is absent.
 pub fn data_dir(what: &str) -> Option<PathBuf> {

@@ -6,7 +6,7 @@
 use geodesics_avtp::{AvtpOptions, solve};
 use geodesics_mesh::{BuildOptions, Mesh};
 use geodesics_shapes::{bumpy_sphere, jittered_icosphere};
-use geodesics_tests::{data_dir, edge_graph_distances};
+use geodesics_tests::{EXACT, data_dir, edge_graph_distances};
 use geodesics_window::Source;
 
 fn exact(mesh: &Mesh, sources: &[Source]) -> Vec<f64> {
@@ -98,7 +98,7 @@ fn tiny_lambda_lies_between_exact_and_edge_graph_dijkstra() {
         let g = edge_graph_distances(&mesh, 0);
         let lambda = 0.5 * min_edge(&mesh) / mean_edge(&mesh);
         let a = avtp(&mesh, &[Source::Vertex(0)], lambda);
-        let tol = 1e-12 * scale(&e);
+        let tol = EXACT * scale(&e);
         let mut strictly_above_exact = 0;
         for v in 0..e.len() {
             assert!(
@@ -135,7 +135,7 @@ fn never_below_exact_and_more_accurate_as_lambda_grows() {
             Source::Vertex(mesh.vertex_count() as u32 / 2),
         ];
         let e = exact(&mesh, &sources);
-        let tol = 1e-12 * scale(&e);
+        let tol = EXACT * scale(&e);
         let mut means = Vec::new();
         for lambda in [2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0] {
             let a = avtp(&mesh, &sources, lambda);
@@ -232,7 +232,7 @@ fn pavtp_is_deterministic_never_below_exact_and_close_to_avtp() {
             Source::Vertex(mesh.vertex_count() as u32 / 2),
         ];
         let e = exact(&mesh, &sources);
-        let tol = 1e-12 * scale(&e);
+        let tol = EXACT * scale(&e);
         for lambda in [0.5 * min_edge(&mesh) / mean_edge(&mesh), 4.0, 16.0] {
             let g: Vec<f64> = {
                 let (a, b) = (

@@ -5,7 +5,7 @@
 //! and exact VTP agrees with MMP on it and on its Loop subdivision.
 
 use geodesics_mesh::{BuildOptions, Mesh};
-use geodesics_tests::{data_dir, max_finite};
+use geodesics_tests::{EXACT, data_dir, max_finite};
 use geodesics_window::Source;
 
 /// Du et al.'s coarse bunny: 1,839 vertices, 3,674 faces.
@@ -39,7 +39,7 @@ fn bunny_simplified_to_the_authors_face_count() {
             .unwrap()
             .0
             .distance;
-        let tol = 1e-12 * max_finite(&mmp);
+        let tol = EXACT * max_finite(&mmp);
         for (v, (a, b)) in vtp.iter().zip(&mmp).enumerate() {
             assert!((a - b).abs() <= tol, "vertex {v}: VTP {a}, MMP {b}");
         }

@@ -21,11 +21,9 @@ use std::time::Instant;
 
 use geodesics_ich::{IchOptions, Schedule};
 use geodesics_mesh::Mesh;
-use geodesics_tests::{data_dir, load_mesh, reference_mesh};
+use geodesics_tests::{EXACT, data_dir, load_mesh, reference_mesh};
 use geodesics_vtp::VtpOptions;
 use geodesics_window::Source;
-
-const REL: f64 = 1e-12;
 
 const SCHEDULES: [(Schedule, &str); 2] =
     [(Schedule::PriorityQueue, "ich"), (Schedule::Fwp, "fwp-ch")];
@@ -90,7 +88,7 @@ fn check(
         let (sources, max_finite) = (&reference_file.sources, reference_file.max_finite);
         let misses = &reference_file.oracle_misses;
         let reference = reference_file.distances();
-        let tol = REL * max_finite;
+        let tol = EXACT * max_finite;
         let t = Instant::now();
         let (ours_vtp, vtp_props) = vtp(mesh, sources, limit);
         let vtp_s = t.elapsed().as_secs_f64();
@@ -328,7 +326,7 @@ fn cow_pinch_vertex() {
                 worst / max,
                 stats.window_propagations
             );
-            assert!(worst <= REL * max, "{label} from {src}: {worst:e}");
+            assert!(worst <= EXACT * max, "{label} from {src}: {worst:e}");
         }
     }
 }

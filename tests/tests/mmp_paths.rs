@@ -15,13 +15,11 @@
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_mmp::{GeodesicPath, MmpError, MmpField, MmpOptions, Schedule, SurfacePoint, run};
 use geodesics_shapes::{bumpy_sphere, flat_grid, jittered_flat_grid, jittered_icosphere};
-use geodesics_tests::data_dir;
+use geodesics_tests::{EXACT, data_dir};
 use geodesics_vtp::VtpOptions;
 use geodesics_window::SourceError;
 use geodesics_window::{Source, Tolerance};
 use glam::DVec3;
-
-const REL: f64 = 1e-12;
 
 fn build(soup: IndexedTriangles) -> Mesh {
     Mesh::build(soup, &BuildOptions::default()).unwrap()
@@ -111,9 +109,9 @@ impl<'a> Checker<'a> {
         assert_eq!(pts.last(), Some(&to), "path ends at the target: {pts:?}");
         assert_eq!(pts.len(), path.polyline.len());
         let len: f64 = path.polyline.windows(2).map(|s| s[0].distance(s[1])).sum();
-        assert!((len - path.length).abs() <= REL * len.max(self.scale * 1e-3));
+        assert!((len - path.length).abs() <= EXACT * len.max(self.scale * 1e-3));
         assert!(
-            (path.length - want).abs() <= REL * want.max(self.scale * 1e-3),
+            (path.length - want).abs() <= EXACT * want.max(self.scale * 1e-3),
             "length {} vs distance {want} (diff {:.3e}) {pts:?}",
             path.length,
             path.length - want
@@ -136,7 +134,7 @@ impl<'a> Checker<'a> {
             match b {
                 SurfacePoint::Vertex(v) => {
                     let straight = qa.distance(qb) + qb.distance(qc) - qa.distance(qc);
-                    if straight > REL * self.scale {
+                    if straight > EXACT * self.scale {
                         assert!(
                             may_bend(m, &self.tol, v),
                             "path bends at convex vertex {v} (angle sum {}, excess {straight:.3e})",
@@ -171,7 +169,7 @@ impl<'a> Checker<'a> {
                     let excess = a2.distance(b2) + b2.distance(c2) - a2.distance(c2);
                     worst = worst.max(excess);
                     assert!(
-                        excess <= REL * self.scale,
+                        excess <= EXACT * self.scale,
                         "path not straight across edge {h} at point {k}: excess {excess:.3e}"
                     );
                 }
@@ -209,7 +207,7 @@ fn check_mesh(name: &str, mesh: &Mesh, source: u32, step: usize, sym: usize) {
                 assert_eq!(field.path_to_vertex(v), Err(MmpError::Unreachable));
                 continue;
             }
-            assert!((dist[v as usize] - vtp[v as usize]).abs() <= REL * max);
+            assert!((dist[v as usize] - vtp[v as usize]).abs() <= EXACT * max);
             let p = field.path_to_vertex(v).unwrap();
             let (b, w) = c.check(
                 &p,
@@ -242,8 +240,8 @@ fn check_mesh(name: &str, mesh: &Mesh, source: u32, step: usize, sym: usize) {
             // Triangle inequality with the corners.
             for (k, &v) in corners.iter().enumerate() {
                 let e = mesh.position(v).distance(q);
-                assert!(d <= dc[k] + e + REL * max, "point above corner bound");
-                assert!(d >= dc[k] - e - REL * max, "point below corner bound");
+                assert!(d <= dc[k] + e + EXACT * max, "point above corner bound");
+                assert!(d >= dc[k] - e - EXACT * max, "point below corner bound");
             }
             let (b, w) = c.check(&p, SurfacePoint::Vertex(source), to, d);
             bends += b;
@@ -262,7 +260,7 @@ fn check_mesh(name: &str, mesh: &Mesh, source: u32, step: usize, sym: usize) {
                 .0
                 .distance[source as usize];
                 assert!(
-                    (back - d).abs() <= REL * max,
+                    (back - d).abs() <= EXACT * max,
                     "symmetry at face {f}: path {d}, VTP from the point {back}"
                 );
                 nsym += 1;
@@ -323,7 +321,7 @@ fn flat_grid_paths_are_straight_segments() {
                     p.points
                 );
             }
-            assert!((p.length - e).abs() <= 1e-12 * 15.0);
+            assert!((p.length - e).abs() <= EXACT * 15.0);
         }
         eprintln!(
             "mmp_paths flat grid {schedule:?}: worst lateral offset {worst:.2e} (scale {:.2})",
@@ -332,7 +330,7 @@ fn flat_grid_paths_are_straight_segments() {
         // Grid corners on the diagonal: the path runs along the diagonal edges.
         let far = mesh.input_vertex_count() as u32 - 1;
         let p = field.path_to_vertex(far).unwrap();
-        assert!((p.length - 10.0 * 2f64.sqrt()).abs() <= 1e-12 * 15.0);
+        assert!((p.length - 10.0 * 2f64.sqrt()).abs() <= EXACT * 15.0);
     }
 }
 

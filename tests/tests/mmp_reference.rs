@@ -21,10 +21,8 @@
 use std::time::Instant;
 
 use geodesics_mmp::{MmpOptions, Schedule};
-use geodesics_tests::reference_mesh;
+use geodesics_tests::{EXACT, reference_mesh};
 use geodesics_vtp::VtpOptions;
-
-const REL: f64 = 1e-12;
 
 /// Checks the reference files of manifest key `key`, each with the
 /// schedules `plan` gives for its name (none: skipped, and said so).
@@ -53,7 +51,7 @@ fn check(key: &str, synthetic: bool, plan: &dyn Fn(&str) -> &'static [Schedule])
             .0
             .distance;
         let vtp_s = t.elapsed().as_secs_f64();
-        let tol = REL * max_finite;
+        let tol = EXACT * max_finite;
         for &schedule in schedules {
             let options = MmpOptions {
                 schedule,

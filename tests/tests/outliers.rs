@@ -13,6 +13,7 @@
 use geodesics::{Algorithm, compute};
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{bipyramid, flat_grid};
+use geodesics_tests::EXACT;
 use geodesics_window::Source;
 use glam::DVec3;
 
@@ -41,7 +42,7 @@ fn a_far_vertex_leaves_the_tolerance_and_the_work_of_the_rest() {
     let source = [Source::Vertex(0)];
     let origin = flap.position(0);
     // Rounding allowed: 1e-12 of the grid's largest distance (its diagonal).
-    let tol = 1e-12 * f64::from(n) * 2f64.sqrt();
+    let tol = EXACT * f64::from(n) * 2f64.sqrt();
     for name in ["vtp", "ftp", "ich", "mmp", "pvtp", "pvtp-regions"] {
         let algorithm: Algorithm = name.parse().unwrap();
         let (base, base_stats) = compute(&plain, &source, &algorithm).unwrap();
@@ -68,7 +69,7 @@ fn a_far_vertex_leaves_the_tolerance_and_the_work_of_the_rest() {
         };
         let expected = via(n / 2).min(via(n / 2 + 1));
         assert!(
-            (field.distance[tip] - expected).abs() <= 1e-12 * expected,
+            (field.distance[tip] - expected).abs() <= EXACT * expected,
             "{name}: tip {} vs {expected}",
             field.distance[tip]
         );
@@ -101,7 +102,7 @@ fn a_needle_is_refused_by_every_window_list_solver_and_solved_by_mmp() {
             let (field, _) = result.unwrap_or_else(|e| panic!("{name}: {e}"));
             // The apex is reached up a face, from the rim.
             let rim = mesh.position(0).distance(mesh.position(8));
-            assert!((field.distance[8] - rim).abs() <= 1e-12 * rim, "{name}");
+            assert!((field.distance[8] - rim).abs() <= EXACT * rim, "{name}");
             continue;
         }
         let message = result.err().map(|e| e.to_string());

@@ -29,11 +29,9 @@ use std::time::Instant;
 
 use geodesics_mesh::{BuildOptions, Mesh};
 use geodesics_pvtp::{PvtpError, PvtpOptions, Schedule};
-use geodesics_tests::{ReferenceFile, data_dir, load_mesh, reference_mesh};
+use geodesics_tests::{EXACT, ReferenceFile, data_dir, load_mesh, reference_mesh};
 use geodesics_vtp::VtpOptions;
 use geodesics_window::{DistanceField, Source};
-
-const REL: f64 = 1e-12;
 
 fn pvtp(mesh: &Mesh, sources: &[Source], threads: usize, schedule: Schedule) -> DistanceField {
     let options = PvtpOptions {
@@ -134,7 +132,7 @@ fn check(key: &str, synthetic: bool, plan: Plan, schedule: Schedule) {
             continue;
         }
         let (sources, max_finite) = (&reference_file.sources, reference_file.max_finite);
-        let tol = REL * max_finite;
+        let tol = EXACT * max_finite;
         let misses = &reference_file.oracle_misses;
         let reference = reference_file.distances();
         let ours_vtp = vtp(mesh, sources);
@@ -352,7 +350,7 @@ fn point_sources_and_max_distance_match_vtp() {
                 let field = pvtp(&mesh, sources, t, schedule);
                 let (err, inf) = compare(&field.distance, &reference.distance);
                 assert!(
-                    err <= REL * max && inf.is_empty(),
+                    err <= EXACT * max && inf.is_empty(),
                     "{file} {sources:?} {schedule:?} T={t}: {err:.3e} from VTP, {} infinite mismatches",
                     inf.len()
                 );
@@ -361,7 +359,7 @@ fn point_sources_and_max_distance_match_vtp() {
                     if d.is_finite() {
                         let own = &singles[s as usize].distance[i];
                         assert!(
-                            (own - d).abs() <= REL * max,
+                            (own - d).abs() <= EXACT * max,
                             "{file} T={t}: vertex {i} nearest source {s} at {own}, not {d}"
                         );
                     }
@@ -378,12 +376,12 @@ fn point_sources_and_max_distance_match_vtp() {
                 };
                 let limited = geodesics_pvtp::solve(&mesh, sources, &options).unwrap().0;
                 for (i, (&d, &r)) in limited.distance.iter().zip(&reference.distance).enumerate() {
-                    if r <= m - REL * max {
+                    if r <= m - EXACT * max {
                         assert!(
-                            (d - r).abs() <= REL * max,
+                            (d - r).abs() <= EXACT * max,
                             "{file} {schedule:?}: vertex {i} within limit"
                         );
-                    } else if r > m + REL * max {
+                    } else if r > m + EXACT * max {
                         assert!(
                             d.is_infinite(),
                             "{file} {schedule:?}: vertex {i} beyond limit"

@@ -9,10 +9,8 @@
 use geodesics::{Algorithm, compute, shortest_path};
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{bumpy_sphere, regular_torus};
-use geodesics_tests::{data_dir, max_finite};
+use geodesics_tests::{EXACT, data_dir, max_finite};
 use geodesics_window::Source;
-
-const REL: f64 = 1e-12;
 
 fn both(soup: &IndexedTriangles, weld: bool) -> (Mesh, Mesh) {
     let build = |reorder| {
@@ -55,7 +53,10 @@ fn assert_close(what: &str, a: &[f64], b: &[f64]) {
         );
         if x.is_finite() {
             worst = worst.max((x - y).abs());
-            assert!((x - y).abs() <= REL * max, "{what}: vertex {i}: {x} vs {y}");
+            assert!(
+                (x - y).abs() <= EXACT * max,
+                "{what}: vertex {i}: {x} vs {y}"
+            );
         }
     }
     eprintln!("reorder {what}: max |diff| / max = {:.2e}", worst / max);
@@ -147,7 +148,7 @@ fn check(name: &str, soup: &IndexedTriangles, weld: bool, algorithms: &[&str]) {
             let pa = shortest_path(&kept, &cases[0].1, target, &algorithm).unwrap();
             let pb = shortest_path(&renumbered, &cases[0].2, target, &algorithm).unwrap();
             assert!(
-                (pa.length - pb.length).abs() <= REL * max,
+                (pa.length - pb.length).abs() <= EXACT * max,
                 "{name}: path to {target}: {} vs {}",
                 pa.length,
                 pb.length

@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
 use geodesics_shapes::{bumpy_sphere, flat_grid, jittered_flat_grid, jittered_icosphere};
-use geodesics_tests::{data_dir, max_finite, read_distances, reference_dir};
+use geodesics_tests::{EXACT, data_dir, max_finite, read_distances, reference_dir};
 use geodesics_vtp::{
     GeodesicPath, PathError, Provenance, SurfacePoint, VtpOptions, shortest_path,
     solve_with_provenance, trace_path,
@@ -34,7 +34,6 @@ use geodesics_window::{DistanceField, Source, Tolerance};
 use glam::{DVec2, DVec3};
 use serde_json::Value;
 
-const REL: f64 = 1e-12;
 const ANGLE: f64 = 1e-9;
 
 fn build(soup: IndexedTriangles) -> Mesh {
@@ -183,7 +182,7 @@ impl<'a> Checker<'a> {
         let err = (path.length - d).abs() / max_d;
         rep.max_err = rep.max_err.max(err);
         assert!(
-            err <= REL,
+            err <= EXACT,
             "{}: length {} vs distance {d} ({err:e} of max)",
             ctx(),
             path.length
@@ -349,7 +348,7 @@ fn check_targets(
             let err = (path.length - r[t as usize]) / max_finite(r);
             let pinch = mesh.summary().nonmanifold_vertices > 0;
             assert!(
-                err.abs() <= REL || (pinch && err < 0.0),
+                err.abs() <= EXACT || (pinch && err < 0.0),
                 "{what}: target {t}: length {} vs reference {}",
                 path.length,
                 r[t as usize]

@@ -18,11 +18,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use geodesics_mesh::{BuildOptions, IndexedTriangles, Mesh};
-use geodesics_tests::{data_dir, read_distances};
+use geodesics_tests::{EXACT, data_dir, read_distances};
 use geodesics_vtp::{VtpOptions, solve};
 use geodesics_window::Source;
-
-const REL: f64 = 1e-12;
 
 /// Where the source lies, in the FILE's numbering and corner order.
 #[derive(Clone, Copy, Debug)]
@@ -164,7 +162,7 @@ fn check(file: &str, reference: &str, point: Point) {
     assert_eq!(reference.len(), n, "{file}: reference length");
     let max = reference.iter().copied().fold(0.0, f64::max);
     assert!(reference.iter().all(|d| d.is_finite()), "{file}: reference");
-    let tol = REL * max;
+    let tol = EXACT * max;
 
     let refined = refine(&soup, point);
     let mesh = build(soup.clone());

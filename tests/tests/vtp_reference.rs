@@ -14,12 +14,10 @@
 use std::time::Instant;
 
 use geodesics_mesh::Mesh;
-use geodesics_tests::reference_mesh;
+use geodesics_tests::{EXACT, reference_mesh};
 use geodesics_vtp::{Provenance, VtpOptions, solve, solve_with_provenance};
 use geodesics_window::Source;
 use glam::DVec3;
-
-const REL: f64 = 1e-12;
 
 /// A vertex where gdist is proven too SHORT by an independent exact
 /// computation (so ours, longer there, is right).
@@ -110,7 +108,7 @@ fn check(key: &str, synthetic: bool, filter: &dyn Fn(&str) -> bool) {
         let solve_s = t.elapsed().as_secs_f64();
         let ours = &field.distance;
         assert_eq!(ours.len(), reference.len(), "{name}: vertex count");
-        let tol = REL * max_finite;
+        let tol = EXACT * max_finite;
         let mut worst = 0.0f64;
         let mut bad = Vec::new();
         let mut shorter_through_pinch = 0;

@@ -9,10 +9,8 @@
 //! that change the schedule or the merge run, from one source, as stored
 //! and welded (the others cost minutes there).
 
-use geodesics_tests::reference_mesh;
+use geodesics_tests::{EXACT, reference_mesh};
 use geodesics_vtp::{Source, VARIANTS, VtpOptions, solve};
-
-const REL: f64 = 1e-12;
 
 fn check_mesh(key: &str, synthetic: bool) {
     check_mesh_with(key, synthetic, false);
@@ -39,7 +37,7 @@ fn check_mesh_with(key: &str, synthetic: bool, all_variants: bool) {
         .unwrap()
         .0
         .distance;
-    let tol = REL * max_finite;
+    let tol = EXACT * max_finite;
     for &(variant, ..) in VARIANTS {
         if key.starts_with("dragon") && !all_variants && !matches!(variant, "ftp" | "opvtp") {
             continue;
@@ -139,7 +137,7 @@ fn every_variant_keeps_the_field_within_a_distance_limit() {
             .unwrap()
             .0
             .distance;
-        let tol = REL * geodesics_tests::max_finite(&full);
+        let tol = EXACT * geodesics_tests::max_finite(&full);
         for limit in [10.0 * h, 40.0 * h] {
             for &(variant, ..) in VARIANTS {
                 let options = VtpOptions {

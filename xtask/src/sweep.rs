@@ -38,8 +38,7 @@ use glam::DVec3;
 use crate::report::{Cell, Column, JsonFile, Report};
 use crate::{data_dir, mesh_files, read};
 
-/// Agreement bound of two exact fields, relative to the largest distance.
-const EXACT: f64 = 1e-12;
+use geodesics_tests::EXACT;
 
 /// What a case draws as its sources.
 #[derive(Clone, Copy, Debug)]
