@@ -83,6 +83,9 @@ struct StatsReport<'a> {
     lambda: Option<f64>,
     lambda_g: Option<f64>,
     window_resets: u64,
+    /// AVTP/PAVTP: vertices the windows missed that took their distance
+    /// along mesh edges from reached neighbours (almost always 0).
+    edge_filled_vertices: u64,
     /// `--max-distance` (propagation stopped beyond it), if given.
     distance_limit: Option<f64>,
     propagation_seconds: f64,
@@ -280,6 +283,7 @@ fn stats_report<'a>(
         lambda: reset.map(|r| r.lambda),
         lambda_g: reset.map(|r| r.lambda_g),
         window_resets: stats.window_resets,
+        edge_filled_vertices: stats.edge_filled_vertices,
         distance_limit,
         propagation_seconds: stats.propagation_seconds,
         pruning_seconds: stats.pruning_seconds,
@@ -336,6 +340,12 @@ fn summary(r: &StatsReport, output: &Option<PathBuf>) -> String {
             r.window_resets,
             if r.window_resets == 1 { "" } else { "s" }
         );
+        if r.edge_filled_vertices > 0 {
+            s += &format!(
+                "{} vertices the windows missed took their distance along mesh edges\n",
+                r.edge_filled_vertices
+            );
+        }
     }
     if r.threads > 1 {
         s += &format!("ran on {} threads\n", r.threads);

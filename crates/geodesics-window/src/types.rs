@@ -141,6 +141,11 @@ pub struct Stats {
     /// AVTP and PAVTP: how many times the wavefront passed a multiple of
     /// `λ·h` and its windows were reset (0 for the exact solvers).
     pub window_resets: u64,
+    /// AVTP and PAVTP: vertices the windows left unreached although a
+    /// neighbour was reached, which then took their distance along mesh
+    /// edges from their reached neighbours (0 in almost every solve; see
+    /// `geodesics-avtp`). Always 0 for the exact solvers.
+    pub edge_filled_vertices: u64,
     /// Seconds spent propagating windows (Rule 1 splitting, children, and
     /// the vertex check applied to each child as it is made). Solvers may
     /// estimate this by timing a sample of their steps (VTP times one
