@@ -104,16 +104,7 @@ impl Gaps {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use geodesics_mesh::BuildOptions;
-
-    /// A flat grid of `n × n` unit squares.
-    fn grid(n: u32) -> Mesh {
-        Mesh::build(
-            geodesics_shapes::flat_grid(n, n, 1.0),
-            &BuildOptions::default(),
-        )
-        .expect("a flat grid is a valid mesh")
-    }
+    use crate::tests::grid;
 
     /// The vertex at `(x, y)`.
     fn at(mesh: &Mesh, x: f64, y: f64) -> usize {

@@ -199,8 +199,9 @@ mod tests {
     use super::*;
     use geodesics_mesh::BuildOptions;
 
-    /// A flat `n × n` grid of unit spacing.
-    fn grid(n: u32) -> Mesh {
+    /// A flat grid of `n × n` unit squares (also for the other modules'
+    /// tests).
+    pub(crate) fn grid(n: u32) -> Mesh {
         Mesh::build(
             geodesics_shapes::flat_grid(n, n, 1.0),
             &BuildOptions::default(),
