@@ -342,8 +342,13 @@ fn summary(r: &StatsReport, output: &Option<PathBuf>) -> String {
         );
         if r.edge_filled_vertices > 0 {
             s += &format!(
-                "{} vertices the windows missed took their distance along mesh edges\n",
-                r.edge_filled_vertices
+                "{} {} the windows missed took their distance along mesh edges\n",
+                r.edge_filled_vertices,
+                if r.edge_filled_vertices == 1 {
+                    "vertex"
+                } else {
+                    "vertices"
+                }
             );
         }
     }
