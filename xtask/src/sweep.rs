@@ -32,13 +32,11 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use geodesics::{Algorithm, AvtpOptions, BuildOptions, IndexedTriangles, Mesh, Source, compute};
 use geodesics_shapes::SplitMix64;
-use geodesics_tests::max_finite;
+use geodesics_tests::{EXACT, max_finite};
 use glam::DVec3;
 
 use crate::report::{Cell, Column, JsonFile, Report};
 use crate::{data_dir, mesh_files, read};
-
-use geodesics_tests::EXACT;
 
 /// What a case draws as its sources.
 #[derive(Clone, Copy, Debug)]

@@ -5,7 +5,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use geodesics_mesh::Mesh;
-use geodesics_window::{DistanceField, NO_SOURCE};
+use geodesics_window::{DistanceField, NO_SOURCE, corner_neighbours};
 
 /// Gives each vertex that the windows left unreached, although a
 /// neighbour was reached, its shortest distance along mesh edges from the
@@ -19,25 +19,25 @@ use geodesics_window::{DistanceField, NO_SOURCE};
 /// a nearly flat saddle that emits only into its thin shadow, leaves a
 /// narrow sector that no window covers, and a vertex inside it is never
 /// reached (on `skull.glb` at λ = 32 from one face point, one vertex of
-/// 50K; none in 4,320 other solves over nine real meshes). Emitting into
+/// 50K; none in 7,680 other solves over 17 meshes, at λ from 2 to 128). Emitting into
 /// whole corners closes such sectors but cost 28–65 % more time on the
 /// Loop×4 bunny; this backstop costs one scan of the distances when every
-/// vertex was reached. Its distance is the length of a real path (to a
+/// vertex was reached, and one scan of the smaller side's edges when
+/// some are beyond the limit or in another component. Its distance is the length of a real path (to a
 /// reached vertex, then along edges), so it is never below exact either.
 pub(crate) fn fill_gaps(mesh: &Mesh, field: &mut DistanceField, max_distance: Option<f64>) -> u64 {
     let unreached = field.distance.iter().filter(|d| !d.is_finite()).count();
     if unreached == 0 {
         return 0;
     }
-    let mut gaps = Gaps {
-        limit: max_distance.unwrap_or(f64::INFINITY),
-        best: vec![(f64::INFINITY, NO_SOURCE); mesh.vertex_count()],
-        queue: BinaryHeap::new(),
-    };
+    let limit = max_distance.unwrap_or(f64::INFINITY);
     let input = |v: u32| mesh.pinch_origin(v) as usize;
-    // The unreached vertices next to reached ones, found from the smaller
-    // of the two sets (a limited solve reaches few, a full one misses few).
+    // The edge paths from reached vertices to unreached neighbours within
+    // the limit, found from the smaller of the two sets (a limited solve
+    // reaches few, a full one misses few). Usually there are none (other
+    // components, or past the limit), and nothing more is allocated.
     let from_reached = field.distance.len() - unreached < unreached;
+    let mut first = Vec::new();
     for v in 0..mesh.vertex_count() as u32 {
         if field.distance[input(v)].is_finite() != from_reached {
             continue;
@@ -48,8 +48,22 @@ pub(crate) fn fill_gaps(mesh: &Mesh, field: &mut DistanceField, max_distance: Op
             }
             let (to, from) = if from_reached { (u, v) } else { (v, u) };
             let i = input(from);
-            gaps.offer(to, field.distance[i] + l, field.nearest_source[i]);
+            let d = field.distance[i] + l;
+            if d <= limit {
+                first.push((to, d, field.nearest_source[i]));
+            }
         }
+    }
+    if first.is_empty() {
+        return 0;
+    }
+    let mut gaps = Gaps {
+        limit,
+        best: vec![(f64::INFINITY, NO_SOURCE); mesh.vertex_count()],
+        queue: BinaryHeap::new(),
+    };
+    for (v, d, source) in first {
+        gaps.offer(v, d, source);
     }
     let mut filled = 0;
     while let Some(Reverse((key, v))) = gaps.queue.pop() {
@@ -70,17 +84,13 @@ pub(crate) fn fill_gaps(mesh: &Mesh, field: &mut DistanceField, max_distance: Op
     filled
 }
 
-/// Each neighbour of `v` with the length of the edge to it: the head of
-/// every outgoing half-edge and the tail of the one before it (which also
-/// finds the last neighbour of a boundary vertex; inner ones come twice).
+/// Each neighbour of `v` with the length of the edge to it: the two other
+/// corners of every face around it (`corner_neighbours`, which also finds
+/// the last neighbour of a boundary vertex; inner ones come twice).
 fn neighbours(mesh: &Mesh, v: u32) -> impl Iterator<Item = (u32, f64)> + '_ {
-    mesh.fan(v).iter().flat_map(move |&h| {
-        let p = Mesh::prev(h);
-        [
-            (mesh.head(h), mesh.length(h)),
-            (mesh.tail(p), mesh.length(p)),
-        ]
-    })
+    mesh.fan(v)
+        .iter()
+        .flat_map(move |&h| corner_neighbours(mesh, h).map(|(u, l, _)| (u, l)))
 }
 
 /// The Dijkstra of [`fill_gaps`] over the unreached vertices.

@@ -20,8 +20,8 @@
 //!   between the exact distance and the edge-graph (Dijkstra) distance;
 //! - a vertex that no window reaches although a neighbour was reached (a
 //!   narrow sector left uncovered after a reset, where restarted and kept
-//!   windows tie to the last digits: one vertex in over 4,000 solves on
-//!   our meshes) takes its distance along mesh edges from its reached
+//!   windows tie to the last digits: one vertex in about 7,700 solves
+//!   on our meshes) takes its distance along mesh edges from its reached
 //!   neighbours, so nothing reachable is left at ∞
 //!   ([`Stats::edge_filled_vertices`] counts them);
 //! - in between, the mean error falls fast as λ grows (on `bunny.off`: about
