@@ -16,7 +16,9 @@
 //! - `cargo xtask avtp [--runs N] [--large]`: AVTP's accuracy/speed table,
 //!   λ from 2 to 128 against exact VTP in the same run, on the same meshes,
 //!   with PAVTP at T=2 against AVTP (over all rounds, and over those the
-//!   cores' slow periods missed: see `cores.rs`).
+//!   cores' slow periods missed: see `cores.rs`), then how much the mean
+//!   error falls per doubling of λ, from vertex 0 and averaged over 8
+//!   sources.
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, both
 //!   schedules (the paper's rounds and the regions), T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
