@@ -242,3 +242,27 @@ fn mean_errors_over_sources(mesh: &geodesics::Mesh) -> Result<Vec<Vec<f64>>> {
     }
     Ok(per_source)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_doubling_of_lambda_divides_the_next_mean_by_the_last() {
+        let means = [8.0, 4.0, 1.0, 0.5, 0.5, 0.1, 0.0];
+        let falls = falls_per_doubling(&means);
+        assert_eq!(
+            falls,
+            [
+                (4.0, 0.5),
+                (8.0, 0.25),
+                (16.0, 0.5),
+                (32.0, 1.0),
+                (64.0, 0.2),
+                (128.0, 0.0)
+            ]
+        );
+        assert_eq!(halved_flag(0.5), "");
+        assert_eq!(halved_flag(0.51), " (not halved)");
+    }
+}
