@@ -116,12 +116,12 @@ mod tests {
     use super::*;
     use crate::tests::grid;
 
-    /// The vertex at `(x, y)`.
+    /// The vertex at `(x, y)` (grid coordinates are whole numbers, exactly).
     fn at(mesh: &Mesh, x: f64, y: f64) -> usize {
         (0..mesh.vertex_count())
             .find(|&v| {
                 let p = mesh.position(v as u32);
-                (p.x - x).abs() < 1e-9 && (p.y - y).abs() < 1e-9
+                p.x == x && p.y == y
             })
             .expect("a grid vertex there")
     }
@@ -160,19 +160,20 @@ mod tests {
         }
         assert_eq!(fill_gaps(&mesh, &mut field, None), 2);
         for v in hole {
-            let via: f64 = (0..mesh.vertex_count())
-                .filter(|u| !hole.contains(u))
-                .filter(|&u| (mesh.position(u as u32) - mesh.position(v as u32)).length() < 1.5)
-                .map(|u| {
-                    exact.distance[u] + mesh.position(u as u32).distance(mesh.position(v as u32))
-                })
+            // One edge from the best reached neighbour, in the edge lengths
+            // the fill adds: the filled distance is at most this, bit for
+            // bit (a path through the other hole vertex is only longer).
+            let via: f64 = neighbours(&mesh, v as u32)
+                .filter(|&(u, _)| !hole.contains(&(u as usize)))
+                .map(|(u, l)| exact.distance[u as usize] + l)
                 .fold(f64::INFINITY, f64::min);
+            assert!(via.is_finite(), "vertex {v} has reached neighbours");
             assert!(
                 field.distance[v] >= exact.distance[v],
                 "vertex {v} below exact"
             );
             assert!(
-                field.distance[v] <= via + 1e-12,
+                field.distance[v] <= via,
                 "vertex {v}: {} > {via}",
                 field.distance[v]
             );
