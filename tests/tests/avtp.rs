@@ -328,9 +328,17 @@ fn no_reachable_vertex_is_left_unreached() {
             );
             assert!(*a >= x - tol, "{threads:?}: vertex {v}: {a} below {x}");
         }
+        // The vertex the windows missed: its edge path (14.5555 against
+        // exact 14.5272) stays within λ = 32's largest errors on our
+        // meshes (about 1 %), not merely finite.
+        let (gap, exact_gap) = (field.distance[38310], e[38310]);
+        assert!(
+            gap <= 1.01 * exact_gap,
+            "{threads:?}: vertex 38310 at {gap}, exact {exact_gap}"
+        );
         eprintln!(
-            "skull.glb λ = 32, {threads:?}: {} vertices filled along edges, vertex 38310 at {} (exact {})",
-            stats.edge_filled_vertices, field.distance[38310], e[38310]
+            "skull.glb λ = 32, {threads:?}: {} vertices filled along edges, vertex 38310 at {gap} (exact {exact_gap})",
+            stats.edge_filled_vertices
         );
     }
 }
