@@ -1282,7 +1282,21 @@ impl Region {
         if windows.is_empty() {
             return;
         }
-        let place = shared.place[(t / 3) as usize];
+        self.send_to(shared.place[(t / 3) as usize], t, ends, windows);
+    }
+
+    /// [`Region::send`] with the place of `t`'s face looked up.
+    #[inline(always)]
+    fn send_to(
+        &mut self,
+        place: FacePlace,
+        t: u32,
+        ends: Option<[u32; 2]>,
+        windows: &mut [EndedWindow],
+    ) {
+        if windows.is_empty() {
+            return;
+        }
         if place.region as usize == self.index {
             let lt = 3 * place.local + t % 3;
             let ends = ends.unwrap_or_else(|| self.ends_of(lt));
@@ -1406,9 +1420,11 @@ impl Region {
         let (lf, i) = (lh / 3, lh % 3);
         let n = Mesh::next(h);
         let p = Mesh::prev(h);
-        let (beyond_left, beyond_right) = (mesh.twin(p), mesh.twin(n));
-        for t in [beyond_left, beyond_right].into_iter().flatten() {
-            let place = shared.place[(t / 3) as usize];
+        // The beyond faces' places, read once: their records are asked
+        // for now and written when the children are sent.
+        let beyond = |g: u32| mesh.twin(g).map(|t| (t, shared.place[(t / 3) as usize]));
+        let (beyond_left, beyond_right) = (beyond(p), beyond(n));
+        for (_, place) in [beyond_left, beyond_right].into_iter().flatten() {
             if place.region as usize == self.index {
                 geodesics_mesh::prefetch(&self.faces, place.local as usize);
             }
@@ -1461,11 +1477,11 @@ impl Region {
         }
         self.info = info;
         // Beyond C → A and beyond B → C.
-        if let Some(t) = beyond_left {
-            self.send(shared, t, Some([sa, sc]), &mut left[..n_left]);
+        if let Some((t, place)) = beyond_left {
+            self.send_to(place, t, Some([sa, sc]), &mut left[..n_left]);
         }
-        if let Some(t) = beyond_right {
-            self.send(shared, t, Some([sc, sb]), &mut right[..n_right]);
+        if let Some((t, place)) = beyond_right {
+            self.send_to(place, t, Some([sc, sb]), &mut right[..n_right]);
         }
         self.left = left;
         self.right = right;
