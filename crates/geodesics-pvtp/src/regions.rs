@@ -1143,7 +1143,9 @@ impl Region {
                 );
                 for k in a..b {
                     let lf = self.lay.fan[k as usize];
-                    let record = &mut self.faces[lf as usize].lists;
+                    let face = &mut self.faces[lf as usize];
+                    shared.mesh.prefetch_face(face.global);
+                    let record = &mut face.lists;
                     if record[ENTERED] == NOT_ENTERED {
                         record[ENTERED] = self.counts.pops as u32;
                     }
@@ -1171,9 +1173,8 @@ impl Region {
                 self.lay.fan_start[u as usize],
                 self.lay.fan_start[u as usize + 1],
             );
-            // Reading a face's global number loads its record too.
             for &lf in &self.lay.fan[a as usize..b as usize] {
-                shared.mesh.prefetch_face(self.faces[lf as usize].global);
+                geodesics_mesh::prefetch(&self.faces, lf as usize);
             }
             geodesics_mesh::prefetch(&self.slots, u as usize);
             // Emitting walks the vertex's fan in the mesh's table.
