@@ -84,9 +84,16 @@ fn main() -> Result<()> {
         eprintln!("{USAGE}");
         return Ok(());
     };
-    if matches!(command.as_str(), "help" | "--help" | "-h") {
+    if matches!(command.as_str(), "help" | "--help" | "-h")
+        || args.iter().any(|a| a == "--help" || a == "-h")
+    {
         println!("{USAGE}");
         return Ok(());
+    }
+    // A misspelt flag would otherwise be ignored, and the table run for
+    // many minutes without what was asked for.
+    if command != "solve-times" {
+        check_flags(command, &args[1..])?;
     }
     let runs = flag_value(&args, "--runs")?.unwrap_or(3);
     let large = args.iter().any(|a| a == "--large");
@@ -114,6 +121,39 @@ fn main() -> Result<()> {
             )
         }
     }
+}
+
+/// Refuses a flag that `command` does not take, a value without its flag
+/// and a flag missing its value.
+fn check_flags(command: &str, args: &[String]) -> Result<()> {
+    // (flag, takes a value)
+    let taken: &[(&str, bool)] = match command {
+        "bench" | "avtp" | "pvtp" => &[("--runs", true), ("--large", false)],
+        "tables" => &[("--runs", true), ("--algorithms", true)],
+        "load" => &[("--runs", true)],
+        "count" => &[("--algorithms", true)],
+        "sweep" => &[
+            ("--cases", true),
+            ("--seed", true),
+            ("--meshes", true),
+            ("--large", false),
+        ],
+        _ => &[],
+    };
+    let mut rest = args.iter();
+    while let Some(arg) = rest.next() {
+        let takes_value = match taken.iter().find(|(flag, _)| flag == arg) {
+            Some(&(_, takes_value)) => takes_value,
+            None if arg == "--json" => true,
+            None => {
+                bail!("`cargo xtask {command}` does not take `{arg}` (try `cargo xtask --help`)")
+            }
+        };
+        if takes_value && rest.next().is_none() {
+            bail!("{arg} takes a value");
+        }
+    }
+    Ok(())
 }
 
 /// The text after `flag`, if given.
@@ -703,4 +743,35 @@ fn load(runs: usize, json: Option<JsonFile>) -> Result<()> {
         ]);
     }
     report.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_flags;
+
+    fn args(text: &str) -> Vec<String> {
+        text.split_whitespace().map(String::from).collect()
+    }
+
+    #[test]
+    fn flags_a_command_takes_pass() {
+        check_flags("avtp", &args("--runs 3 --large --json t.json")).unwrap();
+        check_flags("sweep", &args("--seed 14 --meshes a,b --cases 2")).unwrap();
+        check_flags("count", &args("")).unwrap();
+    }
+
+    #[test]
+    fn unknown_flags_and_missing_values_are_refused() {
+        let typo = check_flags("avtp", &args("--larg")).unwrap_err();
+        assert!(typo.to_string().contains("`--larg`"), "{typo}");
+        // A flag of another command.
+        assert!(check_flags("bench", &args("--seed 3")).is_err());
+        // A stray value.
+        assert!(check_flags("pvtp", &args("--runs 3 5")).is_err());
+        let missing = check_flags("sweep", &args("--seed")).unwrap_err();
+        assert!(
+            missing.to_string().contains("--seed takes a value"),
+            "{missing}"
+        );
+    }
 }
