@@ -111,6 +111,22 @@ struct Layout {
     primary: Vec<bool>,
 }
 
+impl Layout {
+    /// Where the local faces around slot `s` lie in `fan`.
+    #[inline]
+    fn fan_range(&self, s: u32) -> std::ops::Range<usize> {
+        let s = s as usize;
+        self.fan_start[s] as usize..self.fan_start[s + 1] as usize
+    }
+
+    /// The copies of slot `s`'s vertex (see `copies`).
+    #[inline]
+    fn copies_of(&self, s: u32) -> &[(u32, u32)] {
+        let s = s as usize;
+        &self.copies[self.copy_start[s] as usize..self.copy_start[s + 1] as usize]
+    }
+}
+
 /// One region's solver state (locked by the thread running its band).
 struct Region {
     index: usize,
@@ -967,12 +983,9 @@ impl Region {
             // First reached: its local fan loads now, long before
             // `prefetch_upcoming` reads it to ask for its faces (as VTP's
             // `set_dist` does with the mesh's fan table).
-            let (a, b) = (
-                self.lay.fan_start[s as usize],
-                self.lay.fan_start[s as usize + 1],
-            );
-            geodesics_mesh::prefetch(&self.lay.fan, a as usize);
-            geodesics_mesh::prefetch(&self.lay.fan, (b as usize).saturating_sub(1));
+            let fan = self.lay.fan_range(s);
+            geodesics_mesh::prefetch(&self.lay.fan, fan.start);
+            geodesics_mesh::prefetch(&self.lay.fan, fan.end.saturating_sub(1));
             if self.resets && !x.inside {
                 self.front.push(s);
             }
@@ -985,16 +998,13 @@ impl Region {
         if !x.inside || x.must_emit(d, &self.tol) {
             self.heap.push_or_lower(d.to_bits(), s);
         }
-        let (a, b) = (
-            self.lay.copy_start[s as usize],
-            self.lay.copy_start[s as usize + 1],
-        );
-        if a == b {
+        let n_copies = self.lay.copies_of(s).len();
+        if n_copies == 0 {
             return;
         }
         if self.slots[s as usize].grouped {
-            for k in a..b {
-                let (q, s2) = self.lay.copies[k as usize];
+            for k in 0..n_copies {
+                let (q, s2) = self.lay.copies_of(s)[k];
                 if q as usize == self.index {
                     self.lower(s2, d, src, Arrival::Unknown);
                 }
@@ -1076,11 +1086,7 @@ impl Region {
             x.pseudo = true;
             x.shadowed = false;
             self.is_reset[s as usize] = true;
-            let (a, b) = (
-                self.lay.fan_start[s as usize],
-                self.lay.fan_start[s as usize + 1],
-            );
-            for &lf in &self.lay.fan[a as usize..b as usize] {
+            for &lf in &self.lay.fan[self.lay.fan_range(s)] {
                 check.extend((0..3).map(|i| 3 * lf + i));
             }
             false
@@ -1137,12 +1143,8 @@ impl Region {
                 }
                 self.prefetch_upcoming(shared);
                 // The faces around the vertex join the traversed area.
-                let (a, b) = (
-                    self.lay.fan_start[s as usize],
-                    self.lay.fan_start[s as usize + 1],
-                );
-                for k in a..b {
-                    let lf = self.lay.fan[k as usize];
+                for k in self.lay.fan_range(s) {
+                    let lf = self.lay.fan[k];
                     let face = &mut self.faces[lf as usize];
                     shared.mesh.prefetch_face(face.global);
                     let record = &mut face.lists;
@@ -1169,11 +1171,7 @@ impl Region {
             if self.prefetched.contains(&u) {
                 continue;
             }
-            let (a, b) = (
-                self.lay.fan_start[u as usize],
-                self.lay.fan_start[u as usize + 1],
-            );
-            for &lf in &self.lay.fan[a as usize..b as usize] {
+            for &lf in &self.lay.fan[self.lay.fan_range(u)] {
                 geodesics_mesh::prefetch(&self.faces, lf as usize);
             }
             geodesics_mesh::prefetch(&self.slots, u as usize);
@@ -1503,11 +1501,7 @@ impl Region {
             self.is_dirty[s as usize] = false;
             let x = self.slots[s as usize];
             let arrival = self.arrival[s as usize];
-            let (a, b) = (
-                self.lay.copy_start[s as usize],
-                self.lay.copy_start[s as usize + 1],
-            );
-            for &(q, s2) in &self.lay.copies[a as usize..b as usize] {
+            for &(q, s2) in self.lay.copies_of(s) {
                 if q as usize != self.index {
                     outbox.distances.push((q, s2, x.dist, x.src, arrival));
                     least = least.min(x.dist);
