@@ -1146,6 +1146,9 @@ impl Region {
                 for k in self.lay.fan_range(s) {
                     let lf = self.lay.fan[k];
                     let face = &mut self.faces[lf as usize];
+                    // The mesh's records of the face, which its crossings
+                    // read, asked for now that its local record (asked for
+                    // by `prefetch_upcoming`) is at hand.
                     shared.mesh.prefetch_face(face.global);
                     let record = &mut face.lists;
                     if record[ENTERED] == NOT_ENTERED {
@@ -1278,9 +1281,6 @@ impl Region {
         ends: Option<[u32; 2]>,
         windows: &mut [EndedWindow],
     ) {
-        if windows.is_empty() {
-            return;
-        }
         self.send_to(shared.place[(t / 3) as usize], t, ends, windows);
     }
 
