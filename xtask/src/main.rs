@@ -79,15 +79,14 @@ use serde_json::json;
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    const USAGE: &str = "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N] | count [--algorithms a,b] | sweep [--cases N] [--seed S] [--meshes a,b] [--large]; each also takes --json FILE (the printed numbers as JSON)";
     let Some(command) = args.first() else {
-        eprintln!("{USAGE}");
+        eprintln!("{}", usage());
         return Ok(());
     };
     if matches!(command.as_str(), "help" | "--help" | "-h")
         || args.iter().any(|a| a == "--help" || a == "-h")
     {
-        println!("{USAGE}");
+        println!("{}", usage());
         return Ok(());
     }
     // A misspelt flag would otherwise be ignored, and the table run for
@@ -121,29 +120,65 @@ fn main() -> Result<()> {
     }
 }
 
+/// A flag and the value it takes (`None`: a switch).
+type Flag = (&'static str, Option<&'static str>);
+
+/// The commands run by hand and their flags, each with the value it takes
+/// (`None`: a switch); every one also takes `--json FILE`. The usage and
+/// the flag check both read it.
+const COMMANDS: &[(&str, &[Flag])] = &[
+    ("bench", &[("--runs", Some("N")), ("--large", None)]),
+    ("avtp", &[("--runs", Some("N")), ("--large", None)]),
+    ("pvtp", &[("--runs", Some("N")), ("--large", None)]),
+    (
+        "tables",
+        &[("--runs", Some("N")), ("--algorithms", Some("a,b"))],
+    ),
+    ("load", &[("--runs", Some("N"))]),
+    ("count", &[("--algorithms", Some("a,b"))]),
+    (
+        "sweep",
+        &[
+            ("--cases", Some("N")),
+            ("--seed", Some("S")),
+            ("--meshes", Some("a,b")),
+            ("--large", None),
+        ],
+    ),
+];
+
+fn usage() -> String {
+    let commands: Vec<String> = COMMANDS
+        .iter()
+        .map(|(command, flags)| {
+            let flags: Vec<String> = flags
+                .iter()
+                .map(|(flag, value)| match value {
+                    Some(value) => format!(" [{flag} {value}]"),
+                    None => format!(" [{flag}]"),
+                })
+                .collect();
+            format!("{command}{}", flags.concat())
+        })
+        .collect();
+    format!(
+        "usage: cargo xtask {}; each also takes --json FILE (the printed numbers as JSON)",
+        commands.join(" | ")
+    )
+}
+
 /// Refuses a flag that `command` does not take, a value without its flag
 /// and a flag missing its value. Nothing is checked for `solve-times`,
 /// whose arguments are positional, nor for an unknown command (refused
 /// as such later).
 fn check_flags(command: &str, args: &[String]) -> Result<()> {
-    // (flag, takes a value)
-    let taken: &[(&str, bool)] = match command {
-        "bench" | "avtp" | "pvtp" => &[("--runs", true), ("--large", false)],
-        "tables" => &[("--runs", true), ("--algorithms", true)],
-        "load" => &[("--runs", true)],
-        "count" => &[("--algorithms", true)],
-        "sweep" => &[
-            ("--cases", true),
-            ("--seed", true),
-            ("--meshes", true),
-            ("--large", false),
-        ],
-        _ => return Ok(()),
+    let Some(&(_, taken)) = COMMANDS.iter().find(|(name, _)| *name == command) else {
+        return Ok(());
     };
     let mut rest = args.iter();
     while let Some(arg) = rest.next() {
         let takes_value = match taken.iter().find(|(flag, _)| flag == arg) {
-            Some(&(_, takes_value)) => takes_value,
+            Some((_, value)) => value.is_some(),
             None if arg == "--json" => true,
             None => {
                 bail!("`cargo xtask {command}` does not take `{arg}` (try `cargo xtask --help`)")
@@ -747,7 +782,7 @@ fn load(runs: usize, json: Option<JsonFile>) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::check_flags;
+    use super::{check_flags, usage};
 
     fn args(text: &str) -> Vec<String> {
         text.split_whitespace().map(String::from).collect()
@@ -759,6 +794,14 @@ mod tests {
         check_flags("sweep", &args("--seed 14 --meshes a,b --cases 2")).unwrap();
         check_flags("count", &args("")).unwrap();
         check_flags("solve-times", &args("MESH vtp 3")).unwrap();
+    }
+
+    #[test]
+    fn the_usage_lists_each_command_with_its_flags() {
+        assert_eq!(
+            usage(),
+            "usage: cargo xtask bench [--runs N] [--large] | avtp [--runs N] [--large] | pvtp [--runs N] [--large] | tables [--runs N] [--algorithms a,b] | load [--runs N] | count [--algorithms a,b] | sweep [--cases N] [--seed S] [--meshes a,b] [--large]; each also takes --json FILE (the printed numbers as JSON)"
+        );
     }
 
     #[test]
