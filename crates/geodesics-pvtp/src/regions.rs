@@ -533,135 +533,120 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                 | (cell_index(k.z) as u64 & m)
         })
         .collect();
-    let face_key: Vec<u64> = (0..nf as u32)
+    // Every face's corners, read once from the mesh's half-edge records
+    // (96 bytes a face) into 12 bytes a face for the passes below.
+    let corners: Vec<[u32; 3]> = (0..nf as u32)
         .into_par_iter()
-        .map(|f| keys[mesh.tail(3 * f) as usize])
+        .map(|f| mesh.face(f))
         .collect();
     // Faces are numbered for locality, so runs of faces share a cube:
-    // only the first face of each run adds its key to be sorted, and a
-    // face looks its region up only when its key differs from the last.
+    // `(key, first face, faces)` per run (a run does not cross a chunk).
     const CHUNK: usize = 4096;
-    let mut distinct: Vec<u64> = face_key
+    let keyed_runs: Vec<(u64, u32, u32)> = corners
         .par_chunks(CHUNK)
-        .flat_map_iter(|chunk| {
-            chunk
-                .iter()
-                .enumerate()
-                .filter(|&(i, k)| i == 0 || chunk[i - 1] != *k)
-                .map(|(_, &k)| k)
+        .enumerate()
+        .flat_map_iter(|(c, chunk)| {
+            let mut runs: Vec<(u64, u32, u32)> = Vec::new();
+            for (i, corner) in chunk.iter().enumerate() {
+                let k = keys[corner[0] as usize];
+                match runs.last_mut() {
+                    Some(run) if run.0 == k => run.2 += 1,
+                    _ => runs.push((k, (c * CHUNK + i) as u32, 1)),
+                }
+            }
+            runs
         })
         .collect();
+    let mut distinct: Vec<u64> = keyed_runs.iter().map(|run| run.0).collect();
     distinct.par_sort_unstable();
     distinct.dedup();
     let nr = distinct.len();
-    let mut region_of_face = vec![0u32; nf];
-    region_of_face
-        .par_chunks_mut(CHUNK)
-        .zip(face_key.par_chunks(CHUNK))
-        .for_each(|(regions, keys)| {
-            let mut last = (u64::MAX, 0);
-            for (r, &k) in regions.iter_mut().zip(keys) {
-                if k != last.0 {
-                    let found = distinct
-                        .binary_search(&k)
-                        .expect("every face's key is among the distinct keys");
-                    last = (k, found as u32);
-                }
-                *r = last.1;
-            }
-        });
-    // The faces of each region, in face order.
-    let mut start = vec![0u32; nr + 1];
-    for &r in &region_of_face {
-        start[r as usize + 1] += 1;
+    // `(region, first face, faces)` per run, in face order.
+    let runs: Vec<(u32, u32, u32)> = keyed_runs
+        .par_iter()
+        .map(|&(k, f, n)| {
+            let r = distinct
+                .binary_search(&k)
+                .expect("every run's key is among the distinct keys");
+            (r as u32, f, n)
+        })
+        .collect();
+    // A region's faces are its runs' faces, in face order: the local
+    // number of each run's first face, and the runs of each region.
+    let mut run_local = Vec::with_capacity(runs.len());
+    let mut region_faces = vec![0u32; nr];
+    let mut runs_start = vec![0u32; nr + 1];
+    for &(r, _, n) in &runs {
+        run_local.push(region_faces[r as usize]);
+        region_faces[r as usize] += n;
+        runs_start[r as usize + 1] += 1;
     }
     for i in 0..nr {
-        start[i + 1] += start[i];
+        runs_start[i + 1] += runs_start[i];
     }
-    let mut place = vec![FacePlace::default(); nf];
-    let mut by_region = vec![0u32; nf];
-    let mut fill = start.clone();
-    for (f, &r) in region_of_face.iter().enumerate() {
-        place[f] = FacePlace {
-            region: r,
-            local: fill[r as usize] - start[r as usize],
-        };
-        by_region[fill[r as usize] as usize] = f as u32;
+    let mut runs_of_region = vec![0u32; runs.len()];
+    let mut fill = runs_start.clone();
+    for (i, &(r, _, _)) in runs.iter().enumerate() {
+        runs_of_region[fill[r as usize] as usize] = i as u32;
         fill[r as usize] += 1;
     }
-    let faces_of = |r: usize| &by_region[start[r] as usize..start[r + 1] as usize];
-    // Per region: a slot per vertex, numbered as the faces meet them, and
-    // the faces' records.
-    let parts: Vec<(Vec<u32>, Vec<LocalFace>)> = (0..nr)
+    let mut place = vec![FacePlace::default(); nf];
+    place
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            let first = (c * CHUNK) as u32;
+            let mut i = runs.partition_point(|&(_, f, n)| f + n <= first);
+            for (f, p) in (first..).zip(chunk.iter_mut()) {
+                while runs[i].1 + runs[i].2 <= f {
+                    i += 1;
+                }
+                let (region, start, _) = runs[i];
+                *p = FacePlace {
+                    region,
+                    local: run_local[i] + (f - start),
+                };
+            }
+        });
+    // Per region: a slot per vertex, numbered as its faces (in face
+    // order) meet them, the slots' local fans and the faces' records
+    // (the copies are found once every region has its slots).
+    // Each thread numbers the slots through one vertex-long table, kept
+    // for all the regions it lays out.
+    let threads = rayon::current_num_threads().max(1);
+    let tables: Vec<Mutex<Vec<(u32, u32)>>> = (0..threads).map(|_| Mutex::default()).collect();
+    let parts: Vec<(Layout, Vec<LocalFace>)> = (0..nr)
         .into_par_iter()
-        .map_init(
-            || (vec![NONE; nv], vec![0u32; nv]),
-            |(seen, slot_of), r| {
-                let mut slot_vertex = Vec::new();
-                let faces = faces_of(r)
-                    .iter()
-                    .map(|&f| LocalFace {
+        .map(|r| {
+            let thread = rayon::current_thread_index().unwrap_or(0) % threads;
+            let mut table = lock(&tables[thread]);
+            if table.len() != nv {
+                // Per vertex: the region that last numbered it, its slot.
+                table.resize(nv, (NONE, 0));
+            }
+            let mut slot_vertex = Vec::new();
+            let mut faces = Vec::with_capacity(region_faces[r] as usize);
+            let my_runs = &runs_of_region[runs_start[r] as usize..runs_start[r + 1] as usize];
+            for &i in my_runs {
+                let (_, first, n) = runs[i as usize];
+                for f in first..first + n {
+                    faces.push(LocalFace {
                         lists: NEW_FACE,
-                        corners: mesh.face(f).map(|v| {
-                            let v = v as usize;
-                            if seen[v] != r as u32 {
-                                seen[v] = r as u32;
-                                slot_of[v] = slot_vertex.len() as u32;
-                                slot_vertex.push(v as u32);
+                        corners: corners[f as usize].map(|v| {
+                            let entry = &mut table[v as usize];
+                            if entry.0 != r as u32 {
+                                *entry = (r as u32, slot_vertex.len() as u32);
+                                slot_vertex.push(v);
                             }
-                            slot_of[v]
+                            entry.1
                         }),
                         global: f,
-                    })
-                    .collect();
-                (slot_vertex, faces)
-            },
-        )
-        .collect();
-    let mut cstart = vec![0u32; nv + 1];
-    for (slot_vertex, _) in &parts {
-        for &v in slot_vertex {
-            cstart[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..nv {
-        cstart[i + 1] += cstart[i];
-    }
-    let mut pairs = vec![(0u32, 0u32); cstart[nv] as usize];
-    let mut fill = cstart.clone();
-    for (r, (slot_vertex, _)) in parts.iter().enumerate() {
-        for (s, &v) in slot_vertex.iter().enumerate() {
-            pairs[fill[v as usize] as usize] = (r as u32, s as u32);
-            fill[v as usize] += 1;
-        }
-    }
-    let copies = Copies {
-        start: cstart,
-        pairs,
-    };
-    let regions = parts
-        .into_par_iter()
-        .enumerate()
-        .map(|(r, (slot_vertex, faces))| {
-            let n = slot_vertex.len();
-            let mut copy_start = Vec::with_capacity(n + 1);
-            let mut others = Vec::new();
-            let mut primary = Vec::with_capacity(n);
-            for (s, &v) in slot_vertex.iter().enumerate() {
-                copy_start.push(others.len() as u32);
-                let mine = copies.of(v);
-                primary.push(mine[0] == (r as u32, s as u32));
-                others.extend(mine.iter().filter(|&&(q, _)| q as usize != r));
-                // A pinch group's members: lowering one lowers them all.
-                let g = setup.group_of[v as usize];
-                if g != NO_GROUP {
-                    for &u in setup.groups[g as usize].iter().filter(|&&u| u != v) {
-                        others.extend_from_slice(copies.of(u));
-                    }
+                    });
                 }
             }
-            copy_start.push(others.len() as u32);
+            drop(table);
             // Local fans: the faces of each slot, by counting.
+            let n = slot_vertex.len();
             let mut fan_start = vec![0u32; n + 1];
             for face in &faces {
                 for &s in &face.corners {
@@ -679,6 +664,60 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                     fill[s as usize] += 1;
                 }
             }
+            let lay = Layout {
+                slot_vertex,
+                fan_start,
+                fan,
+                copy_start: Vec::new(),
+                copies: Vec::new(),
+                primary: Vec::new(),
+            };
+            (lay, faces)
+        })
+        .collect();
+    let mut cstart = vec![0u32; nv + 1];
+    for (lay, _) in &parts {
+        for &v in &lay.slot_vertex {
+            cstart[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..nv {
+        cstart[i + 1] += cstart[i];
+    }
+    let mut pairs = vec![(0u32, 0u32); cstart[nv] as usize];
+    let mut fill = cstart.clone();
+    for (r, (lay, _)) in parts.iter().enumerate() {
+        for (s, &v) in lay.slot_vertex.iter().enumerate() {
+            pairs[fill[v as usize] as usize] = (r as u32, s as u32);
+            fill[v as usize] += 1;
+        }
+    }
+    let copies = Copies {
+        start: cstart,
+        pairs,
+    };
+    let regions = parts
+        .into_par_iter()
+        .enumerate()
+        .map(|(r, (lay, faces))| {
+            let n = lay.slot_vertex.len();
+            let mut copy_start = Vec::with_capacity(n + 1);
+            let mut others = Vec::new();
+            let mut primary = Vec::with_capacity(n);
+            for (s, &v) in lay.slot_vertex.iter().enumerate() {
+                copy_start.push(others.len() as u32);
+                let mine = copies.of(v);
+                primary.push(mine[0] == (r as u32, s as u32));
+                others.extend(mine.iter().filter(|&&(q, _)| q as usize != r));
+                // A pinch group's members: lowering one lowers them all.
+                let g = setup.group_of[v as usize];
+                if g != NO_GROUP {
+                    for &u in setup.groups[g as usize].iter().filter(|&&u| u != v) {
+                        others.extend_from_slice(copies.of(u));
+                    }
+                }
+            }
+            copy_start.push(others.len() as u32);
             Region {
                 index: r,
                 tol,
@@ -710,12 +749,10 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                 prefetched: [NONE; UPCOMING],
                 counts: Counts::default(),
                 lay: Layout {
-                    slot_vertex,
-                    fan_start,
-                    fan,
                     copy_start,
                     copies: others,
                     primary,
+                    ..lay
                 },
             }
         })
