@@ -301,6 +301,7 @@ pub(crate) fn solve(
     let h = mesh.average_edge_length();
     // Taken for the solve: a solve that panics leaves none, and the next
     // one lays the regions out afresh.
+    let laid_out = prepared.is_none();
     let mut prep = prepared
         .take()
         .unwrap_or_else(|| build(mesh, REGION_CELL_EDGES * h));
@@ -310,6 +311,7 @@ pub(crate) fn solve(
             &prep.setup,
             resets,
             options.max_distance.unwrap_or(f64::INFINITY),
+            !laid_out,
         )
     });
     let mut regions = std::mem::take(&mut prep.regions);
@@ -924,14 +926,18 @@ impl Region {
     /// Sets the region up for a new solve, as its layout left it: no list,
     /// no face entered, every slot unreached with its vertex's kind from
     /// `setup`; `resets`: AVTP's resets run (PAVTP); `limit`: the distance
-    /// limit (infinite: none). The buffers stay.
-    fn restart(&mut self, setup: &SolverSetup, resets: bool, limit: f64) {
+    /// limit (infinite: none); `used`: a solve ran since the layout (if
+    /// not, the faces are as laid out and there is no list). The buffers
+    /// stay.
+    fn restart(&mut self, setup: &SolverSetup, resets: bool, limit: f64, used: bool) {
         self.limit = limit;
-        for face in &mut self.faces {
-            face.lists = NEW_FACE;
-        }
-        for list in &mut self.pool {
-            list.clear();
+        if used {
+            for face in &mut self.faces {
+                face.lists = NEW_FACE;
+            }
+            for list in &mut self.pool {
+                list.clear();
+            }
         }
         self.free.clear();
         self.free.extend((0..self.pool.len() as u32).rev());
