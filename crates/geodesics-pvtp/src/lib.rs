@@ -619,6 +619,38 @@ mod tests {
         }
     }
 
+    /// Regions are found as runs of consecutive faces in one cube; with
+    /// the faces in a scattered order nearly every run is one face long,
+    /// and a cube's faces lie far apart in the face order.
+    #[test]
+    fn regions_are_laid_out_from_faces_in_any_order() {
+        let mut soup = geodesics_shapes::bumpy_sphere(3, 1.0, 12, 0.15, 7);
+        let n = soup.triangles.len();
+        // A stride coprime with n visits every face once, far from the last.
+        let stride = (n / 3..)
+            .find(|s| gcd(*s, n) == 1)
+            .expect("some stride is coprime");
+        soup.triangles = (0..n).map(|i| soup.triangles[i * stride % n]).collect();
+        let mesh = build(soup);
+        let sources = [Source::Vertex(0), Source::Vertex(300)];
+        let reference = vtp(&mesh, &sources);
+        let options = PvtpOptions {
+            threads: 2,
+            schedule: Schedule::Regions,
+            ..PvtpOptions::default()
+        };
+        let mut prepared = PreparedMesh::new(&mesh);
+        let (field, _) = prepared.solve(&sources, &options).unwrap();
+        assert!(max_diff(&field.distance, &reference.distance) < 1e-13);
+        assert_eq!(field.nearest_source, reference.nearest_source);
+        let regions = prepared.regions.as_ref().map_or(0, |p| p.region_count());
+        assert!(regions > 1, "{regions} regions: the test needs several");
+    }
+
+    fn gcd(a: usize, b: usize) -> usize {
+        if b == 0 { a } else { gcd(b, a % b) }
+    }
+
     #[test]
     fn regions_count_their_statistics() {
         let mesh = build(geodesics_shapes::icosphere(3, 1.0));
