@@ -94,37 +94,25 @@ fn list_word(faces: &mut [LocalFace], lh: u32) -> &mut u32 {
     &mut faces[(lh / 3) as usize].lists[(lh % 3) as usize]
 }
 
+/// [`list_word`], read.
+#[inline]
+fn list_word_of(faces: &[LocalFace], lh: u32) -> u32 {
+    faces[(lh / 3) as usize].lists[(lh % 3) as usize]
+}
+
 /// A region's fixed layout: the copies of its faces' corners and where
 /// else each vertex is copied.
 struct Layout {
     /// Per slot: the vertex.
     slot_vertex: Vec<u32>,
-    /// Per slot: its local faces (`fan[fan_start[s]..fan_start[s + 1]]`).
-    fan_start: Vec<u32>,
-    fan: Vec<u32>,
+    /// Per slot: its local faces.
+    fans: Grouped<u32>,
     /// Per slot: `(region, slot)` of the vertex's copies in other regions
     /// and of its pinch group's members (in this region too).
-    copy_start: Vec<u32>,
-    copies: Vec<(u32, u32)>,
+    copies: Grouped<(u32, u32)>,
     /// Per slot: the vertex's first copy, the one that counts it as
     /// reached in the progress report.
     primary: Vec<bool>,
-}
-
-impl Layout {
-    /// Where the local faces around slot `s` lie in `fan`.
-    #[inline]
-    fn fan_range(&self, s: u32) -> std::ops::Range<usize> {
-        let s = s as usize;
-        self.fan_start[s] as usize..self.fan_start[s + 1] as usize
-    }
-
-    /// The copies of slot `s`'s vertex (see `copies`).
-    #[inline]
-    fn copies_of(&self, s: u32) -> &[(u32, u32)] {
-        let s = s as usize;
-        &self.copies[self.copy_start[s] as usize..self.copy_start[s + 1] as usize]
-    }
 }
 
 /// One region's solver state (locked by the thread running its band).
@@ -499,9 +487,10 @@ pub(crate) fn solve(
 }
 
 /// Items grouped by a key below a bound, each group in the items' order
-/// (compressed rows): for the copies of each vertex, `(region, slot)`
-/// pairs in region order; for a region's runs of faces and for its slots'
-/// local fans.
+/// (compressed rows): each vertex's copies as `(region, slot)` pairs in
+/// region order, each region's runs of faces, and in a region's layout
+/// each slot's local fan and its copies elsewhere.
+#[derive(Default)]
 struct Grouped<T> {
     /// Key `k`'s items are `items[start[k]..start[k + 1]]`.
     start: Vec<u32>,
@@ -509,8 +498,15 @@ struct Grouped<T> {
 }
 
 impl<T> Grouped<T> {
+    /// Where key `k`'s items lie in `items`.
+    #[inline]
+    fn range(&self, k: u32) -> std::ops::Range<usize> {
+        self.start[k as usize] as usize..self.start[k as usize + 1] as usize
+    }
+
+    #[inline]
     fn of(&self, k: u32) -> &[T] {
-        &self.items[self.start[k as usize] as usize..self.start[k as usize + 1] as usize]
+        &self.items[self.range(k)]
     }
 }
 
@@ -680,13 +676,10 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                     fans.put(s, lf as u32);
                 }
             }
-            let fans = fans.finish();
             let lay = Layout {
                 slot_vertex,
-                fan_start: fans.start,
-                fan: fans.items,
-                copy_start: Vec::new(),
-                copies: Vec::new(),
+                fans: fans.finish(),
+                copies: Grouped::default(),
                 primary: Vec::new(),
             };
             (lay, faces)
@@ -758,8 +751,10 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                 prefetched: [NONE; UPCOMING],
                 counts: Counts::default(),
                 lay: Layout {
-                    copy_start,
-                    copies: others,
+                    copies: Grouped {
+                        start: copy_start,
+                        items: others,
+                    },
                     primary,
                     ..lay
                 },
@@ -1073,9 +1068,9 @@ impl Region {
             // First reached: its local fan loads now, long before
             // `prefetch_upcoming` reads it to ask for its faces (as VTP's
             // `set_dist` does with the mesh's fan table).
-            let fan = self.lay.fan_range(s);
-            geodesics_mesh::prefetch(&self.lay.fan, fan.start);
-            geodesics_mesh::prefetch(&self.lay.fan, fan.end.saturating_sub(1));
+            let fan = self.lay.fans.range(s);
+            geodesics_mesh::prefetch(&self.lay.fans.items, fan.start);
+            geodesics_mesh::prefetch(&self.lay.fans.items, fan.end.saturating_sub(1));
             if self.resets && !x.inside {
                 self.front.push(s);
             }
@@ -1088,13 +1083,13 @@ impl Region {
         if !x.inside || x.must_emit(d, &self.tol) {
             self.heap.push_or_lower(d.to_bits(), s);
         }
-        let n_copies = self.lay.copies_of(s).len();
-        if n_copies == 0 {
+        let copies = self.lay.copies.range(s);
+        if copies.is_empty() {
             return;
         }
         if self.slots[s as usize].grouped {
-            for k in 0..n_copies {
-                let (q, s2) = self.lay.copies_of(s)[k];
+            for k in copies {
+                let (q, s2) = self.lay.copies.items[k];
                 if q as usize == self.index {
                     self.lower(s2, d, src, Arrival::Unknown);
                 }
@@ -1176,7 +1171,7 @@ impl Region {
             x.pseudo = true;
             x.shadowed = false;
             self.is_reset[s as usize] = true;
-            for &lf in &self.lay.fan[self.lay.fan_range(s)] {
+            for &lf in self.lay.fans.of(s) {
                 check.extend((0..3).map(|i| 3 * lf + i));
             }
             false
@@ -1233,8 +1228,8 @@ impl Region {
                 }
                 self.prefetch_upcoming(shared);
                 // The faces around the vertex join the traversed area.
-                for k in self.lay.fan_range(s) {
-                    let lf = self.lay.fan[k];
+                for k in self.lay.fans.range(s) {
+                    let lf = self.lay.fans.items[k];
                     let face = &mut self.faces[lf as usize];
                     // The mesh's records of the face, which its crossings
                     // read, asked for now that its local record (asked for
@@ -1264,7 +1259,7 @@ impl Region {
             if self.prefetched.contains(&u) {
                 continue;
             }
-            for &lf in &self.lay.fan[self.lay.fan_range(u)] {
+            for &lf in self.lay.fans.of(u) {
                 geodesics_mesh::prefetch(&self.faces, lf as usize);
             }
             geodesics_mesh::prefetch(&self.slots, u as usize);
@@ -1298,7 +1293,7 @@ impl Region {
     /// a cache miss per list (as in VTP's loop).
     #[inline]
     fn prefetch_list(&self, lh: u32) {
-        let idx = self.faces[(lh / 3) as usize].lists[(lh % 3) as usize] & !QUEUED;
+        let idx = list_word_of(&self.faces, lh) & !QUEUED;
         if let Some(list) = self.pool.get(idx as usize) {
             geodesics_mesh::prefetch(list, 0);
             geodesics_mesh::prefetch(list, 1);
@@ -1323,7 +1318,7 @@ impl Region {
         if windows.is_empty() {
             return;
         }
-        let word = *list_word(&mut self.faces, lh);
+        let word = list_word_of(&self.faces, lh);
         let mut idx = word & !QUEUED;
         if idx == NO_LIST {
             idx = self.free.pop().unwrap_or_else(|| {
@@ -1591,7 +1586,7 @@ impl Region {
             self.is_dirty[s as usize] = false;
             let x = self.slots[s as usize];
             let arrival = self.arrival[s as usize];
-            for &(q, s2) in self.lay.copies_of(s) {
+            for &(q, s2) in self.lay.copies.of(s) {
                 if q as usize != self.index {
                     outbox.distances.push((q, s2, x.dist, x.src, arrival));
                     least = least.min(x.dist);
