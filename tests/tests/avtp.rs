@@ -342,3 +342,53 @@ fn no_reachable_vertex_is_left_unreached() {
         );
     }
 }
+
+/// Mean relative error of `approx` against `exact` (over the vertices at a
+/// positive finite exact distance), after checking it is never below.
+fn mean_error_never_below(approx: &[f64], exact: &[f64], case: &str) -> f64 {
+    let tol = EXACT * scale(exact);
+    let (mut sum, mut n) = (0.0, 0);
+    for (v, (a, e)) in approx.iter().zip(exact).enumerate() {
+        assert!(*a >= e - tol, "{case} vertex {v}: {a} < exact {e}");
+        if e.is_finite() && *e > 0.0 {
+            sum += (a - e) / e;
+            n += 1;
+        }
+    }
+    sum / f64::from(n)
+}
+
+#[test]
+fn lighting_apices_before_resets_stays_above_exact_and_lowers_the_error() {
+    for (name, mesh) in meshes() {
+        let sources = [Source::Vertex(0)];
+        let e = exact(&mesh, &sources);
+        for lambda in [2.0, 8.0, 32.0] {
+            for threads in [None, Some(2)] {
+                let plain = AvtpOptions {
+                    threads,
+                    ..AvtpOptions::with_lambda(lambda)
+                };
+                let lit = AvtpOptions {
+                    light_apices: true,
+                    ..plain.clone()
+                };
+                let case = format!("{name} λ = {lambda} threads {threads:?}");
+                let (a, stats) = solve(&mesh, &sources, &lit).unwrap();
+                let with = mean_error_never_below(&a.distance, &e, &case);
+                let (b, _) = solve(&mesh, &sources, &plain).unwrap();
+                let without = mean_error_never_below(&b.distance, &e, &case);
+                eprintln!("{case}: mean error {with:.3e} lit, {without:.3e} not");
+                if stats.window_resets == 0 {
+                    // λh beyond the largest distance: nothing to light.
+                    assert_eq!(a.distance, b.distance, "{case}");
+                } else if without == 0.0 {
+                    // Resets late enough to cost nothing: none to win back.
+                    assert_eq!(with, 0.0, "{case}");
+                } else {
+                    assert!(with < without, "{case}: {with:e} lit against {without:e}");
+                }
+            }
+        }
+    }
+}

@@ -106,6 +106,15 @@ pub struct AvtpOptions {
     /// about 11 % more time, a little better than raising λ to buy the
     /// same accuracy; λ_g = 2 gave 9.1e-4 in the default's time.
     pub lambda_g: f64,
+    /// Before a reset deletes the windows waiting between two reset
+    /// vertices, light the apex of the face beyond through them (the best
+    /// path to it that crossing the face would have given; a real path, so
+    /// still never below exact). Not in the paper, so off by default. At
+    /// λ = 8 it cut the mean error by 19 % on `armadillo.obj` for the same
+    /// propagations, by 24 % on `bunny.off` for 5 % more, and by 17 % on
+    /// the coarse Loop×3 bunny for 10 % more, about what raising λ buys
+    /// there: worth it on scans, not on smooth subdivided meshes.
+    pub light_apices: bool,
     /// Stop the wavefront beyond this distance (farther vertices are ∞).
     pub max_distance: Option<f64>,
     /// `None`: sequential AVTP. `Some(T)`: PAVTP on a pool of `T` threads
@@ -122,6 +131,7 @@ impl AvtpOptions {
         AvtpOptions {
             lambda,
             lambda_g: WindowReset::DEFAULT_LAMBDA_G,
+            light_apices: false,
             max_distance: None,
             threads: None,
             progress: Progress::default(),
@@ -142,6 +152,7 @@ impl AvtpOptions {
         WindowReset {
             lambda: self.lambda,
             lambda_g: self.lambda_g,
+            light_apices: self.light_apices,
         }
     }
 

@@ -539,10 +539,7 @@ mod tests {
     fn a_prepared_mesh_gives_the_bits_of_fresh_solves() {
         let mesh = build(geodesics_shapes::bumpy_sphere(5, 1.0, 12, 0.15, 7));
         let mut prepared = PreparedMesh::new(&mesh);
-        let reset = Some(WindowReset {
-            lambda: 8.0,
-            lambda_g: WindowReset::DEFAULT_LAMBDA_G,
-        });
+        let reset = Some(WindowReset::every(8.0));
         let cases = [
             (vec![Source::Vertex(0)], 2, None, None),
             (

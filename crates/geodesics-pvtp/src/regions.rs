@@ -192,6 +192,9 @@ struct Shared<'a> {
     max_distance: f64,
     /// Per face: its region and its number there.
     place: &'a [FacePlace],
+    /// PAVTP: light the apex beyond a list before a reset deletes it
+    /// (`WindowReset::light_apices`).
+    light_apices: bool,
 }
 
 /// The regions of one mesh, laid out by its first region solve and kept
@@ -310,6 +313,7 @@ pub(crate) fn solve(
         all_proper: prep.all_proper,
         max_distance: options.max_distance.unwrap_or(f64::INFINITY),
         place: &prep.place,
+        light_apices: options.reset.is_some_and(|r| r.light_apices),
     };
     let mut created = 0;
     for (i, source) in sources.iter().enumerate() {
@@ -942,7 +946,7 @@ fn work(
         std::mem::swap(&mut region.spares, &mut spares);
         region.receive(shared, post, band.index);
         if let Some(guard) = band.guard {
-            region.reset(guard);
+            region.reset(shared, guard);
         }
         region.run(shared, band.bound);
         region.flush(post, band.index);
@@ -1156,8 +1160,9 @@ impl Region {
 
     /// AVTP's reset on this region's copies: wavefront slots within
     /// `guard` become pseudo-sources emitting everywhere, and the lists
-    /// between two of them still outside are emptied.
-    fn reset(&mut self, guard: f64) {
+    /// between two of them still outside are emptied (their faces' apices
+    /// lit through them first, if asked).
+    fn reset(&mut self, shared: &Shared<'_>, guard: f64) {
         let mut check = std::mem::take(&mut self.grown);
         let mut front = std::mem::take(&mut self.front);
         front.retain(|&s| {
@@ -1186,6 +1191,9 @@ impl Region {
             if !(on_front(lh % 3) && on_front(lh % 3 + 1)) {
                 continue;
             }
+            if shared.light_apices {
+                self.light_apex_through(shared, lh);
+            }
             let word = list_word(&mut self.faces, lh);
             let idx = *word & !QUEUED;
             if idx != NO_LIST {
@@ -1198,6 +1206,39 @@ impl Region {
         }
         check.clear();
         self.grown = check;
+    }
+
+    /// PAVTP lighting apices: the apex of local half-edge `lh`'s face takes
+    /// Rule 1's best path through the windows waiting on `lh`, as crossing
+    /// the face would have given it (as `geodesics-vtp`'s reset does).
+    fn light_apex_through(&mut self, shared: &Shared<'_>, lh: u32) {
+        let idx = list_word_of(&self.faces, lh) & !QUEUED;
+        let (lf, i) = (lh / 3, lh % 3);
+        let f = self.faces[lf as usize].global;
+        if idx == NO_LIST || !(shared.all_proper || shared.kind[f as usize] == FaceKind::Proper) {
+            return;
+        }
+        let mesh = shared.mesh;
+        let h = 3 * f + i;
+        let p = Mesh::prev(h);
+        let tri = Triangle::with_lengths(
+            mesh.length(h),
+            mesh.apex(h),
+            mesh.length(p),
+            mesh.length(Mesh::next(h)),
+        );
+        let list = &self.pool[idx as usize];
+        let (best, k) = apex_paths(list, &tri, &mut self.info);
+        if !best.is_finite() {
+            return;
+        }
+        let source = list[k].window.source;
+        let arrival = Arrival::Window {
+            half_edge: h,
+            at: self.info[k].1,
+        };
+        let apex = self.faces[lf as usize].corners[((i + 2) % 3) as usize];
+        self.lower(apex, best, source, arrival);
     }
 
     /// VTP's loop on this region's slots nearer than `bound`.

@@ -1301,9 +1301,20 @@ impl<'a> Solver<'a> {
         for &v in joined {
             self.force_pseudo(v);
         }
+        let light = reset.lights_apices();
         let verts = &self.verts;
+        let lists = reset
+            .lists_to_empty(self.mesh, |v| verts[v as usize].inside)
+            .to_vec();
+        // Back in place before any apex is lit: one reached for the first
+        // time joins the waiting wavefront vertices as any other.
+        self.reset = Some(reset);
         let mut dropped = 0u64;
-        for &t in reset.lists_to_empty(self.mesh, |v| verts[v as usize].inside) {
+        let mut paths = Vec::new();
+        for &t in &lists {
+            if light {
+                self.light_apex_through(t, &mut paths);
+            }
             for which in 0..2 {
                 let Some(idx) = take_slot(slots_of(&self.faces, t), which) else {
                     continue;
@@ -1317,7 +1328,42 @@ impl<'a> Solver<'a> {
             }
         }
         self.live = self.live.saturating_sub(dropped);
-        self.reset = Some(reset);
+    }
+
+    /// PAVTP lighting apices: the apex of `h`'s face takes Rule 1's best
+    /// path through the windows waiting on `h` (both of its lists), as
+    /// crossing the face would have given it, before the reset deletes
+    /// them (as `geodesics-vtp`'s reset does).
+    fn light_apex_through(&mut self, h: u32, paths: &mut Vec<(f64, f64, f64)>) {
+        if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
+            return;
+        }
+        let mesh = self.mesh;
+        let p = Mesh::prev(h);
+        let tri = Triangle::with_lengths(
+            mesh.length(h),
+            mesh.apex(h),
+            mesh.length(p),
+            mesh.length(Mesh::next(h)),
+        );
+        for which in 0..2 {
+            let idx = slot_get(slots_of(&self.faces, h), which);
+            if idx == NO_LIST {
+                continue;
+            }
+            let list = self.pool[idx as usize]
+                .get_mut()
+                .unwrap_or_else(PoisonError::into_inner);
+            let (best, k) = apex_paths(list, &tri, paths);
+            if best.is_finite() {
+                let source = list[k].window.source;
+                let arrival = Arrival::Window {
+                    half_edge: h,
+                    at: paths[k].1,
+                };
+                self.relax(mesh.tail(p), best, source, arrival);
+            }
+        }
     }
 
     /// Pseudo-source `v`: relaxes its neighbours along the edges now (as

@@ -88,6 +88,10 @@ struct Solver<'a> {
     prov: Vec<Provenance>,
     /// AVTP: which vertices the resets restart, which lists they empty.
     reset: Option<ResetFront>,
+    /// AVTP lighting apices: the lists a reset empties, and Rule 1's paths
+    /// through one of them (kept to allocate nothing per reset).
+    reset_lists: Vec<u32>,
+    reset_paths: Vec<(f64, f64, f64)>,
     /// The default merge (adjacent pairs, lists in edge order), decided
     /// once: the options sit behind a pointer and every append asks.
     sorted_merge: bool,
@@ -186,6 +190,8 @@ impl<'a> Solver<'a> {
                 Vec::new()
             },
             reset: options.reset.map(|r| ResetFront::new(r, mean_edge, nv)),
+            reset_lists: Vec::new(),
+            reset_paths: Vec::new(),
             sorted_merge: options.pruning.pairs == PairRule::Adjacent
                 && options.merge == Merge::Sorted,
             limit: options.max_distance.unwrap_or(f64::INFINITY),
@@ -454,11 +460,63 @@ impl<'a> Solver<'a> {
         for &v in joined {
             self.force_pseudo(v);
         }
+        let light = reset.lights_apices();
         let verts = &self.verts;
-        for &h in reset.lists_to_empty(self.mesh, |v| verts[v as usize].inside) {
+        let to_empty = reset.lists_to_empty(self.mesh, |v| verts[v as usize].inside);
+        if !light {
+            for &h in to_empty {
+                self.drop_list(h);
+            }
+            self.reset = Some(reset);
+            return;
+        }
+        let mut lists = std::mem::take(&mut self.reset_lists);
+        lists.clear();
+        lists.extend_from_slice(to_empty);
+        // Back in place first: an apex reached for the first time joins
+        // the waiting wavefront vertices as any other.
+        self.reset = Some(reset);
+        for &h in &lists {
+            self.light_apex_through(h);
             self.drop_list(h);
         }
-        self.reset = Some(reset);
+        self.reset_lists = lists;
+    }
+
+    /// AVTP lighting apices: the apex of `h`'s face takes Rule 1's best
+    /// path through the windows waiting on `h`, as crossing the face would
+    /// have given it, before the reset deletes them.
+    fn light_apex_through(&mut self, h: u32) {
+        let idx = self.slot(h) & !QUEUED;
+        if idx == NO_LIST || self.face_kind(Mesh::face_of(h)) != FaceKind::Proper {
+            return;
+        }
+        let mesh = self.mesh;
+        let p = Mesh::prev(h);
+        let tri = Triangle::with_lengths(
+            mesh.length(h),
+            mesh.apex(h),
+            mesh.length(p),
+            mesh.length(Mesh::next(h)),
+        );
+        let list = &self.pool[idx as usize];
+        let (best, s) = apex_paths(list, &tri, &mut self.reset_paths);
+        if !best.is_finite() {
+            return;
+        }
+        let (w, bend) = (list[s].window, self.reset_paths[s].1);
+        let arrival = Arrival::Window {
+            half_edge: h,
+            at: bend,
+        };
+        self.relax(mesh.tail(p), best, w.source, arrival, || {
+            Provenance::Window {
+                half_edge: h,
+                pseudo_source: w.p,
+                sigma: w.sigma,
+                bend,
+            }
+        });
     }
 
     /// Deletes the windows waiting on half-edge `h` (AVTP's reset).

@@ -67,6 +67,7 @@ pub struct ResetFront {
     /// The half-edges whose lists the current reset empties.
     to_empty: Vec<u32>,
     resets: u64,
+    light_apices: bool,
 }
 
 impl ResetFront {
@@ -84,6 +85,7 @@ impl ResetFront {
             grown: Vec::new(),
             to_empty: Vec::new(),
             resets: 0,
+            light_apices: reset.light_apices,
         }
     }
 
@@ -108,6 +110,12 @@ impl ResetFront {
     #[inline]
     pub fn is_due(&self, d: f64) -> bool {
         d > self.next
+    }
+
+    /// Whether the apex beyond a list is lit before the list is deleted
+    /// (see [`WindowReset::light_apices`]).
+    pub fn lights_apices(&self) -> bool {
+        self.light_apices
     }
 
     /// How many resets happened.
@@ -214,6 +222,7 @@ mod tests {
         let reset = WindowReset {
             lambda: 1.0,
             lambda_g: 0.5,
+            light_apices: false,
         };
         let mut front = ResetFront::new(reset, 1.0, mesh.vertex_count());
         for v in [3, 4, 7, 8] {

@@ -181,6 +181,11 @@ pub struct WindowReset {
     /// Guard band, in mean edge lengths (λ_g): wavefront vertices farther
     /// than this beyond the reset radius keep their windows.
     pub lambda_g: f64,
+    /// Before the reset deletes the windows waiting on an edge between two
+    /// reset vertices, light the apex of the face beyond through them
+    /// (Rule 1's best path to it, as crossing the face would): a real
+    /// path, so still never below exact. Not in the paper; off by default.
+    pub light_apices: bool,
 }
 
 impl WindowReset {
@@ -201,6 +206,7 @@ impl WindowReset {
         WindowReset {
             lambda,
             lambda_g: Self::DEFAULT_LAMBDA_G,
+            light_apices: false,
         }
     }
 }

@@ -178,6 +178,22 @@ impl Algorithm {
         }
     }
 
+    /// Makes an approximate algorithm light the apex beyond each list a
+    /// window reset deletes, through that list (see
+    /// [`AvtpOptions::light_apices`]). An error for exact algorithms.
+    pub fn with_light_apices(mut self) -> Result<Self, Error> {
+        match &mut self {
+            Algorithm::Avtp(o) => {
+                o.light_apices = true;
+                Ok(self)
+            }
+            other => Err(Error::NoSuchSetting {
+                algorithm: other.name(),
+                setting: "apex lighting at resets (it is exact)",
+            }),
+        }
+    }
+
     /// Sets the thread count of a parallel algorithm (0: rayon's default,
     /// all logical CPUs). An error for sequential algorithms.
     pub fn with_threads(mut self, threads: usize) -> Result<Self, Error> {
