@@ -135,6 +135,12 @@ fn stats_say_which_parameters_ran() {
         )),
         "{stdout}"
     );
+    assert_eq!(json["light_apices"], false);
+    let (stdout, json) = run(&["--algorithm", "pavtp", "--lambda", "4", "--light-apices"]);
+    assert_eq!(json["light_apices"], true);
+    assert!(stdout.contains("apices lit before each"), "{stdout}");
+    let refused = refuse(&["distance", "--demo", "bumpy:3", "--light-apices"]);
+    assert!(refused.contains("it is exact"), "{refused}");
     let (stdout, json) = run(&[
         "--algorithm",
         "pvtp",
@@ -146,7 +152,7 @@ fn stats_say_which_parameters_ran() {
     assert_eq!(json["threads"], 2);
     assert_eq!(json["distance_limit"], 1.0);
     assert!(
-        json["lambda"].is_null() && json["lambda_g"].is_null(),
+        json["lambda"].is_null() && json["lambda_g"].is_null() && json["light_apices"].is_null(),
         "{json}"
     );
     assert_eq!(json["window_resets"], 0);

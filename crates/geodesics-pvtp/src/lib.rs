@@ -540,8 +540,13 @@ mod tests {
         let mesh = build(geodesics_shapes::bumpy_sphere(5, 1.0, 12, 0.15, 7));
         let mut prepared = PreparedMesh::new(&mesh);
         let reset = Some(WindowReset::every(8.0));
+        let lit = Some(WindowReset {
+            light_apices: true,
+            ..WindowReset::every(8.0)
+        });
         let cases = [
             (vec![Source::Vertex(0)], 2, None, None),
+            (vec![Source::Vertex(9000)], 2, lit, None),
             (
                 vec![Source::Vertex(500), Source::Vertex(9000)],
                 1,
@@ -579,6 +584,59 @@ mod tests {
         }
         let regions = prepared.regions.as_ref().map_or(0, |p| p.region_count());
         assert!(regions > 1, "{regions} regions: the test needs several");
+    }
+
+    /// PAVTP lighting apices before its resets: on both schedules never
+    /// below exact, and below the plain reset's error; the regions give the
+    /// same bits for every thread count, as without it.
+    #[test]
+    fn lighting_apices_at_resets_works_on_both_schedules() {
+        let mesh = build(geodesics_shapes::bumpy_sphere(4, 1.0, 40, 0.2, 3));
+        let sources = [Source::Vertex(0)];
+        let exact = vtp(&mesh, &sources).distance;
+        let tol = 1e-12 * exact.iter().copied().fold(0.0, f64::max);
+        let mean_error = |d: &[f64]| {
+            let mut sum = 0.0;
+            for (v, (a, e)) in d.iter().zip(&exact).enumerate() {
+                assert!(*a >= e - tol, "vertex {v}: {a} < exact {e}");
+                if *e > 0.0 {
+                    sum += (a - e) / e;
+                }
+            }
+            sum / d.len() as f64
+        };
+        let on = |schedule, threads, light_apices| {
+            let options = PvtpOptions {
+                threads,
+                schedule,
+                reset: Some(WindowReset {
+                    light_apices,
+                    ..WindowReset::every(4.0)
+                }),
+                ..PvtpOptions::default()
+            };
+            solve(&mesh, &sources, &options)
+                .expect("valid input")
+                .0
+                .distance
+        };
+        for schedule in [Schedule::Rounds, Schedule::Regions] {
+            let lit = on(schedule, 2, true);
+            let (with, without) = (mean_error(&lit), mean_error(&on(schedule, 2, false)));
+            assert!(
+                with < without,
+                "{schedule:?}: {with:e} lit against {without:e}"
+            );
+        }
+        let (one, two) = (
+            on(Schedule::Regions, 1, true),
+            on(Schedule::Regions, 2, true),
+        );
+        assert!(
+            one.iter()
+                .zip(&two)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+        );
     }
 
     #[test]
