@@ -41,7 +41,7 @@ use geodesics_window::prune::{MergeBuffers, apex_paths, beaten_from_edge_ends, m
 use geodesics_window::{
     ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, NO_SOURCE, Progress, Shadow,
     SolverSetup, Source, Stats, Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours,
-    keep_within, pseudo_source_window, seeds,
+    keep_within, path_to_apex, pseudo_source_window, seeds,
 };
 use rayon::prelude::*;
 
@@ -1218,27 +1218,17 @@ impl Region {
         if idx == NO_LIST || !(shared.all_proper || shared.kind[f as usize] == FaceKind::Proper) {
             return;
         }
-        let mesh = shared.mesh;
         let h = 3 * f + i;
-        let p = Mesh::prev(h);
-        let tri = Triangle::with_lengths(
-            mesh.length(h),
-            mesh.apex(h),
-            mesh.length(p),
-            mesh.length(Mesh::next(h)),
-        );
         let list = &self.pool[idx as usize];
-        let (best, k) = apex_paths(list, &tri, &mut self.info);
-        if !best.is_finite() {
+        let Some((best, w, bend)) = path_to_apex(shared.mesh, h, list, &mut self.info) else {
             return;
-        }
-        let source = list[k].window.source;
+        };
         let arrival = Arrival::Window {
             half_edge: h,
-            at: self.info[k].1,
+            at: bend,
         };
         let apex = self.faces[lf as usize].corners[((i + 2) % 3) as usize];
-        self.lower(apex, best, source, arrival);
+        self.lower(apex, best, w.source, arrival);
     }
 
     /// VTP's loop on this region's slots nearer than `bound`.

@@ -47,7 +47,7 @@ use geodesics_window::prune::{
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, NO_SOURCE, Progress, ResetFront, Shadow,
     SolverSetup, Source, Stats, Tolerance, Triangle, VertexState, check_spikes, corner_neighbours,
-    keep_within, pseudo_source_window, seeds, validate_sources,
+    keep_within, path_to_apex, pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 use rayon::prelude::*;
@@ -1338,14 +1338,7 @@ impl<'a> Solver<'a> {
         if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
             return;
         }
-        let mesh = self.mesh;
-        let p = Mesh::prev(h);
-        let tri = Triangle::with_lengths(
-            mesh.length(h),
-            mesh.apex(h),
-            mesh.length(p),
-            mesh.length(Mesh::next(h)),
-        );
+        let apex = self.mesh.tail(Mesh::prev(h));
         for which in 0..2 {
             let idx = slot_get(slots_of(&self.faces, h), which);
             if idx == NO_LIST {
@@ -1354,14 +1347,12 @@ impl<'a> Solver<'a> {
             let list = self.pool[idx as usize]
                 .get_mut()
                 .unwrap_or_else(PoisonError::into_inner);
-            let (best, k) = apex_paths(list, &tri, paths);
-            if best.is_finite() {
-                let source = list[k].window.source;
+            if let Some((best, w, bend)) = path_to_apex(self.mesh, h, list, paths) {
                 let arrival = Arrival::Window {
                     half_edge: h,
-                    at: paths[k].1,
+                    at: bend,
                 };
-                self.relax(mesh.tail(p), best, source, arrival);
+                self.relax(apex, best, w.source, arrival);
             }
         }
     }

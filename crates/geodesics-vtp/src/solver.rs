@@ -16,8 +16,8 @@ use geodesics_window::prune::{
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, ResetFront, Shadow, SolverSetup, Source, Stats,
-    Tolerance, Triangle, VertexQueue, VertexState, check_spikes, corner_neighbours, keep_within,
-    pseudo_source_window, seeds, validate_sources,
+    Tolerance, Triangle, VertexQueue, VertexState, Window, check_spikes, corner_neighbours,
+    keep_within, path_to_apex, pseudo_source_window, seeds, validate_sources,
 };
 use glam::DVec2;
 
@@ -492,30 +492,26 @@ impl<'a> Solver<'a> {
             return;
         }
         let mesh = self.mesh;
-        let p = Mesh::prev(h);
-        let tri = Triangle::with_lengths(
-            mesh.length(h),
-            mesh.apex(h),
-            mesh.length(p),
-            mesh.length(Mesh::next(h)),
-        );
         let list = &self.pool[idx as usize];
-        let (best, s) = apex_paths(list, &tri, &mut self.reset_paths);
-        if !best.is_finite() {
+        let Some((best, w, bend)) = path_to_apex(mesh, h, list, &mut self.reset_paths) else {
             return;
-        }
-        let (w, bend) = (list[s].window, self.reset_paths[s].1);
+        };
+        self.light_apex(h, mesh.tail(Mesh::prev(h)), best, w, bend);
+    }
+
+    /// Lowers the apex of `h`'s face to `best`, the path through window `w`
+    /// crossing `h` at `bend` (Rule 1's best path to it).
+    #[inline(always)]
+    fn light_apex(&mut self, h: u32, apex: u32, best: f64, w: Window, bend: f64) {
         let arrival = Arrival::Window {
             half_edge: h,
             at: bend,
         };
-        self.relax(mesh.tail(p), best, w.source, arrival, || {
-            Provenance::Window {
-                half_edge: h,
-                pseudo_source: w.p,
-                sigma: w.sigma,
-                bend,
-            }
+        self.relax(apex, best, w.source, arrival, || Provenance::Window {
+            half_edge: h,
+            pseudo_source: w.p,
+            sigma: w.sigma,
+            bend,
         });
     }
 
@@ -773,18 +769,7 @@ impl<'a> Solver<'a> {
         let CrossBuffers { info, left, right } = scratch;
         let (best, s) = apex_paths(list, &tri, info);
         if best.is_finite() {
-            let w = list[s].window;
-            let bend = info[s].1;
-            let arrival = Arrival::Window {
-                half_edge: h,
-                at: bend,
-            };
-            self.relax(c, best, w.source, arrival, || Provenance::Window {
-                half_edge: h,
-                pseudo_source: w.p,
-                sigma: w.sigma,
-                bend,
-            });
+            self.light_apex(h, c, best, list[s].window, info[s].1);
         }
         let sp_s = info.get(s).map_or(0.0, |x| x.1);
         let prime = self.faces[f as usize][ENTERED] == self.pops;

@@ -70,7 +70,7 @@ mod window;
 pub use path::{GeodesicPath, SurfacePoint};
 pub use progress::Progress;
 pub use queue::{ARITY, VertexQueue};
-pub use reset::ResetFront;
+pub use reset::{ResetFront, path_to_apex};
 pub use setup::{FaceKind, NO_GROUP, SolverSetup, VertexState};
 pub use shadow::{ALL_RAYS, Arrival, Shadow, corner_neighbours, pseudo_source_window};
 pub use sources::{

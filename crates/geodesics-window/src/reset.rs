@@ -3,7 +3,30 @@
 
 use geodesics_mesh::Mesh;
 
-use crate::WindowReset;
+use crate::prune::apex_paths;
+use crate::{EndedWindow, Triangle, Window, WindowReset};
+
+/// The best path to the apex of half-edge `h`'s face through `list` (Rule
+/// 1's, as crossing the face would give it): its length, the window giving
+/// it and where its ray crosses `h` (the bend). `None` when no window of
+/// the list lights the apex. For lighting the apex before a reset deletes
+/// the list ([`WindowReset::light_apices`]); `paths` is scratch.
+pub fn path_to_apex(
+    mesh: &Mesh,
+    h: u32,
+    list: &[EndedWindow],
+    paths: &mut Vec<(f64, f64, f64)>,
+) -> Option<(f64, Window, f64)> {
+    let p = Mesh::prev(h);
+    let tri = Triangle::with_lengths(
+        mesh.length(h),
+        mesh.apex(h),
+        mesh.length(p),
+        mesh.length(Mesh::next(h)),
+    );
+    let (best, k) = apex_paths(list, &tri, paths);
+    best.is_finite().then(|| (best, list[k].window, paths[k].1))
+}
 
 /// Which vertices a window reset makes pseudo-sources and which lists it
 /// empties, found in time proportional to what changed since the last
