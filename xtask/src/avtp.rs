@@ -58,7 +58,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     }
     report.table(
         Some(format!(
-            "AVTP and PAVTP against exact VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every AVTP and PAVTP once; solve only); speed-ups are the median (range) of the per-round ratios; PAVTP's also over the fast rounds only, those between two cross-core round trips under {FAST_ROUND_TRIP_NS} ns (see `cargo xtask pvtp`: on shared VMs the cores' round trip varies tenfold for minutes at a time, and the parallel solvers' gains with it). PAVTP prepared: on one `geodesics::PreparedMesh` kept across the rounds (its regions laid out once before them, untimed), as a caller solving many sources on one mesh would; the other PAVTP column sets up in every solve, as `geodesics::compute` does"
+            "AVTP and PAVTP against exact VTP from vertex 0, {runs} interleaved rounds (each round runs VTP and every AVTP and PAVTP once; solve only); speed-ups are the median (range) of the per-round ratios; PAVTP's also over the fast rounds only, those between two cross-core round trips under {FAST_ROUND_TRIP_NS} ns (see `cargo xtask pvtp`: on shared VMs the cores' round trip varies tenfold for minutes at a time, and the parallel solvers' gains with it). PAVTP prepared: on one `geodesics::PreparedMesh` kept across the rounds (its regions laid out once before them, untimed), as a caller solving many sources on one mesh would; the other PAVTP column sets up in every solve, as `geodesics::compute` does. Apices lit: AVTP with `light_apices` (not the paper's; off by default), one untimed solve"
         )),
         [
             vec![Column::left("mesh")],
@@ -77,6 +77,8 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 "PAVTP mean rel. error",
                 "PAVTP T=2 prepared best s",
                 "its speed-up over AVTP",
+                "apices lit: propagations",
+                "apices lit: mean rel. error",
             ]),
         ]
         .concat(),
@@ -122,14 +124,25 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
             Cell::empty(),
             Cell::empty(),
             Cell::empty(),
+            Cell::empty(),
+            Cell::empty(),
         ]);
         let mut means = Vec::new();
+        let mut lit_means = Vec::new();
         for (k, lambda) in LAMBDAS.into_iter().enumerate() {
             let (a, p, q) = (1 + 3 * k, 2 + 3 * k, 3 + 3 * k);
             let (field, stats) = &timed.fastest[a];
             let (mean, max) = relative_errors(&field.distance, &exact.distance);
             means.push(mean);
             let (pmean, _) = relative_errors(&timed.fastest[p].0.distance, &exact.distance);
+            let lit = Algorithm::Avtp(AvtpOptions {
+                light_apices: true,
+                ..AvtpOptions::with_lambda(lambda)
+            });
+            let (lit_field, lit_stats) =
+                geodesics::compute(&mesh, &[geodesics::Source::Vertex(0)], &lit)?;
+            let (lit_mean, _) = relative_errors(&lit_field.distance, &exact.distance);
+            lit_means.push(lit_mean);
             report.row(vec![
                 Cell::text(&name),
                 Cell::shown(mesh.face_count()),
@@ -146,10 +159,12 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
                 Cell::sci(pmean, 2),
                 Cell::fixed(timed.best(q), 3),
                 Cell::spread(timed.speed_up(a, q)),
+                Cell::shown(lit_stats.window_propagations),
+                Cell::sci(lit_mean, 2),
             ]);
         }
         let per_source = mean_errors_over_sources(&mesh)?;
-        falls.push((name, means, per_source));
+        falls.push((name, means, lit_means, per_source));
     }
     // Du et al.'s claim, and issue 5's goal: the mean error at least halves
     // each time λ doubles.
@@ -158,19 +173,15 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     ));
     let mut section = serde_json::Map::new();
     let mut over_sources = serde_json::Map::new();
-    for (name, means, per_source) in falls {
-        let ratios = falls_per_doubling(&means);
-        let printed: Vec<String> = ratios
-            .iter()
-            .map(|&(lambda, r)| format!("{lambda}: {r:.3}{}", halved_flag(r)))
-            .collect();
-        // Printed only: its numbers are the `mean_error_falls` section.
-        println!("- {name}: {}", printed.join(", "));
-        let structured: Vec<Value> = ratios
-            .iter()
-            .map(|&(lambda, r)| json!({"lambda": lambda, "ratio": number(r), "halved": halved(r)}))
-            .collect();
-        section.insert(name.clone(), Value::Array(structured));
+    let mut lit_section = serde_json::Map::new();
+    for (name, means, lit_means, per_source) in falls {
+        // Printed only: their numbers are the `mean_error_falls` sections.
+        let (printed, structured) = falls_shown(&means);
+        println!("- {name}: {printed}");
+        section.insert(name.clone(), structured);
+        let (printed, structured) = falls_shown(&lit_means);
+        println!("  apices lit, from vertex 0: {printed}");
+        lit_section.insert(name.clone(), structured);
         // The same over several sources: the ratio of the mean errors
         // averaged over the sources, and the range of single sources'.
         let averaged: Vec<f64> = (0..LAMBDAS.len())
@@ -205,7 +216,22 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
     }
     report.section("mean_error_falls", Value::Object(section));
     report.section("mean_error_falls_over_sources", Value::Object(over_sources));
+    report.section("mean_error_falls_apices_lit", Value::Object(lit_section));
     report.finish()
+}
+
+/// [`falls_per_doubling`] of `means` as printed and as JSON.
+fn falls_shown(means: &[f64]) -> (String, Value) {
+    let ratios = falls_per_doubling(means);
+    let printed: Vec<String> = ratios
+        .iter()
+        .map(|&(lambda, r)| format!("{lambda}: {r:.3}{}", halved_flag(r)))
+        .collect();
+    let structured = ratios
+        .iter()
+        .map(|&(lambda, r)| json!({"lambda": lambda, "ratio": number(r), "halved": halved(r)}))
+        .collect();
+    (printed.join(", "), Value::Array(structured))
 }
 
 /// Per doubling of λ: (λ, mean error at λ / mean error at λ/2).
