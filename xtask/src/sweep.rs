@@ -15,8 +15,9 @@
 //! - **limit**: MMP with a limit equals MMP without it within the limit and
 //!   is ∞ beyond it (the other solvers meet the limited field under
 //!   **exact**);
-//! - **approximate**: AVTP and PAVTP at λ = 2, 8 and 32 never below exact
-//!   (by more than 1e-12 of the largest distance), ∞ exactly where exact is;
+//! - **approximate**: AVTP and PAVTP at λ = 2, 8 and 32, with and without
+//!   `light_apices`, never below exact (by more than 1e-12 of the largest
+//!   distance), ∞ exactly where exact is;
 //! - **paths**: VTP's and MMP's paths to random targets as long as the
 //!   exact distance;
 //! - **symmetry**: d(s, t) = d(t, s) for a vertex source `s` and a random
@@ -475,13 +476,18 @@ fn run_case(
     }
     // Approximate: never below exact.
     for lambda in [2.0, 8.0, 32.0] {
-        for threads in [None, Some(2)] {
+        for (threads, light_apices) in [None, Some(2)]
+            .into_iter()
+            .flat_map(|t| [(t, false), (t, true)])
+        {
             let algorithm = Algorithm::Avtp(AvtpOptions {
                 threads,
+                light_apices,
                 ..AvtpOptions::with_lambda(lambda)
             })
             .with_max_distance(limit);
-            let label = format!("{} λ={lambda}", algorithm.name());
+            let lit = if light_apices { " lit" } else { "" };
+            let label = format!("{} λ={lambda}{lit}", algorithm.name());
             match compute(mesh, &sources, &algorithm) {
                 Ok((field, stats)) => {
                     let value = below(&field.distance, &exact, scale, limit.is_some());
