@@ -216,6 +216,7 @@ impl ResetFront {
 mod tests {
     use super::*;
     use geodesics_mesh::BuildOptions;
+    use glam::DVec2;
 
     fn grid() -> Mesh {
         Mesh::build(
@@ -237,6 +238,39 @@ mod tests {
         v.sort_unstable();
         v.dedup();
         v
+    }
+
+    #[test]
+    fn the_apex_is_lit_by_the_lists_best_window() {
+        let mesh = grid();
+        // A diagonal: its apex stands over the inside of the edge.
+        let h = (0..3)
+            .find(|&h| mesh.apex(h).x > 0.0 && mesh.apex(h).x < mesh.length(h))
+            .expect("a grid triangle has a diagonal");
+        let (l, c) = (mesh.length(h), mesh.apex(h));
+        // One pseudo-source straight below the apex, one farther away and
+        // beyond the edge's end: the first one's straight path wins.
+        let window = |p: DVec2, sigma: f64, source: u32| {
+            EndedWindow::new(Window {
+                b0: 0.0,
+                b1: l,
+                p,
+                sigma,
+                source,
+            })
+        };
+        let near = window(DVec2::new(c.x, -1.0), 0.5, 7);
+        let far = window(DVec2::new(3.0 * l, -1.0), 0.5, 8);
+        let mut paths = Vec::new();
+        let (d, w, bend) = path_to_apex(&mesh, h, &[far, near], &mut paths).unwrap();
+        assert!((d - (0.5 + c.y + 1.0)).abs() < 1e-12, "{d}");
+        assert_eq!(w.source, 7);
+        assert!((bend - c.x).abs() < 1e-12, "{bend}");
+        // The far one alone bends at the edge's end nearest the apex.
+        let (d, _, bend) = path_to_apex(&mesh, h, &[far], &mut paths).unwrap();
+        assert_eq!(bend, l);
+        assert!((d - (far.d1 + DVec2::new(l, 0.0).distance(c))).abs() < 1e-12);
+        assert!(path_to_apex(&mesh, h, &[], &mut paths).is_none());
     }
 
     #[test]
