@@ -227,8 +227,8 @@ struct Letter {
 struct Outbox {
     /// One letter per receiving region, in no particular order.
     letters: Vec<Letter>,
-    /// `(region, slot, distance, source, arrival)`.
-    distances: Vec<(u32, u32, f64, u32, Arrival)>,
+    /// `(region, slot, distance, source, arrival, pseudo)`.
+    distances: Vec<(u32, u32, f64, u32, Arrival, bool)>,
 }
 
 /// Where regions leave what the next band and the driving thread read.
@@ -1132,7 +1132,11 @@ impl Region {
                     let ds = &outbox.distances;
                     let a = ds.partition_point(|m| m.0 < me);
                     let b = ds.partition_point(|m| m.0 <= me);
-                    for &(_, s, d, src, arrival) in &ds[a..b] {
+                    for &(_, s, d, src, arrival, pseudo) in &ds[a..b] {
+                        if pseudo && shared.light_apices && d < self.slots[s as usize].dist {
+                            // An apex another copy restarted (`light_apex_through`).
+                            self.make_pseudo(s);
+                        }
                         self.lower(s, d, src, arrival);
                     }
                     continue;
@@ -1223,12 +1227,35 @@ impl Region {
         let Some((best, w, bend)) = path_to_apex(shared.mesh, h, list, &mut self.info) else {
             return;
         };
-        let arrival = Arrival::Window {
-            half_edge: h,
-            at: bend,
-        };
         let apex = self.faces[lf as usize].corners[((i + 2) % 3) as usize];
-        self.lower(apex, best, w.source, arrival);
+        if best < self.slots[apex as usize].dist {
+            // A restart, as in `geodesics-vtp`'s reset; the copies
+            // elsewhere learn it with the distance (`receive`).
+            self.make_pseudo(apex);
+            let arrival = Arrival::Window {
+                half_edge: h,
+                at: bend,
+            };
+            self.lower(apex, best, w.source, arrival);
+        }
+    }
+
+    /// Makes slot `s` a pseudo-source emitting everywhere, with its pinch
+    /// group's members here (a lit apex restarting the front; see
+    /// `light_apex_through`). Before it is lowered: a slot already inside
+    /// is queued again only if it must emit.
+    fn make_pseudo(&mut self, s: u32) {
+        let x = &mut self.slots[s as usize];
+        x.pseudo = true;
+        x.shadowed = false;
+        if x.grouped {
+            for k in self.lay.copies.range(s) {
+                let (q, s2) = self.lay.copies.items[k];
+                if q as usize == self.index {
+                    self.slots[s2 as usize].pseudo = true;
+                }
+            }
+        }
     }
 
     /// VTP's loop on this region's slots nearer than `bound`.
@@ -1619,7 +1646,9 @@ impl Region {
             let arrival = self.arrival[s as usize];
             for &(q, s2) in self.lay.copies.of(s) {
                 if q as usize != self.index {
-                    outbox.distances.push((q, s2, x.dist, x.src, arrival));
+                    outbox
+                        .distances
+                        .push((q, s2, x.dist, x.src, arrival, x.pseudo));
                     least = least.min(x.dist);
                 }
             }

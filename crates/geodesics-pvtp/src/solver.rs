@@ -1347,7 +1347,11 @@ impl<'a> Solver<'a> {
             let list = self.pool[idx as usize]
                 .get_mut()
                 .unwrap_or_else(PoisonError::into_inner);
-            if let Some((best, w, bend)) = path_to_apex(self.mesh, h, list, paths) {
+            if let Some((best, w, bend)) = path_to_apex(self.mesh, h, list, paths)
+                && best < self.verts[apex as usize].dist
+            {
+                // A restart, as in `geodesics-vtp`'s reset.
+                self.force_pseudo(apex);
                 let arrival = Arrival::Window {
                     half_edge: h,
                     at: bend,

@@ -485,7 +485,11 @@ impl<'a> Solver<'a> {
 
     /// AVTP lighting apices: the apex of `h`'s face takes Rule 1's best
     /// path through the windows waiting on `h`, as crossing the face would
-    /// have given it, before the reset deletes them.
+    /// have given it, before the reset deletes them. An apex it lowers
+    /// restarts the front like a reset vertex (a pseudo-source emitting
+    /// everywhere): no window carries its new distance on, and without
+    /// windows behind it that distance would only prune others' (the
+    /// vertex check) and leave sectors beyond it unreached.
     fn light_apex_through(&mut self, h: u32) {
         let idx = self.slot(h) & !QUEUED;
         if idx == NO_LIST || self.face_kind(Mesh::face_of(h)) != FaceKind::Proper {
@@ -496,7 +500,13 @@ impl<'a> Solver<'a> {
         let Some((best, w, bend)) = path_to_apex(mesh, h, list, &mut self.reset_paths) else {
             return;
         };
-        self.light_apex(h, mesh.tail(Mesh::prev(h)), best, w, bend);
+        let apex = mesh.tail(Mesh::prev(h));
+        if best < self.verts[apex as usize].dist {
+            // Before it is lowered: an apex already inside is queued again
+            // only if it must emit.
+            self.force_pseudo(apex);
+            self.light_apex(h, apex, best, w, bend);
+        }
     }
 
     /// Lowers the apex of `h`'s face to `best`, the path through window `w`

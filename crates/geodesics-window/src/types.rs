@@ -184,7 +184,9 @@ pub struct WindowReset {
     /// Before the reset deletes the windows waiting on an edge between two
     /// reset vertices, light the apex of the face beyond through them
     /// (Rule 1's best path to it, as crossing the face would): a real
-    /// path, so still never below exact. Not in the paper; off by default.
+    /// path, so still never below exact. An apex so lowered restarts the
+    /// front like a reset vertex (no window carries its new distance on).
+    /// Not in the paper; off by default.
     pub light_apices: bool,
 }
 
