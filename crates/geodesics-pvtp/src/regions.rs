@@ -1214,7 +1214,8 @@ impl Region {
 
     /// PAVTP lighting apices: the apex of local half-edge `lh`'s face takes
     /// Rule 1's best path through the windows waiting on `lh`, as crossing
-    /// the face would have given it (as `geodesics-vtp`'s reset does).
+    /// the face would have given it, and restarts the front if that lowers
+    /// it (as `geodesics-vtp`'s reset does).
     fn light_apex_through(&mut self, shared: &Shared<'_>, lh: u32) {
         let idx = list_word_of(&self.faces, lh) & !QUEUED;
         let (lf, i) = (lh / 3, lh % 3);

@@ -1333,7 +1333,8 @@ impl<'a> Solver<'a> {
     /// PAVTP lighting apices: the apex of `h`'s face takes Rule 1's best
     /// path through the windows waiting on `h` (both of its lists), as
     /// crossing the face would have given it, before the reset deletes
-    /// them (as `geodesics-vtp`'s reset does).
+    /// them, and restarts the front if that lowers it (as `geodesics-vtp`'s
+    /// reset does).
     fn light_apex_through(&mut self, h: u32, paths: &mut Vec<(f64, f64, f64)>) {
         if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
             return;
