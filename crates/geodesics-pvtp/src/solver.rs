@@ -1303,15 +1303,16 @@ impl<'a> Solver<'a> {
         }
         let light = reset.lights_apices();
         let verts = &self.verts;
-        let lists = reset
+        let n = reset
             .lists_to_empty(self.mesh, |v| verts[v as usize].inside)
-            .to_vec();
+            .len();
         // Back in place before any apex is lit: one reached for the first
         // time joins the waiting wavefront vertices as any other.
         self.reset = Some(reset);
         let mut dropped = 0u64;
         let mut paths = Vec::new();
-        for &t in &lists {
+        for k in 0..n {
+            let t = self.reset.as_ref().expect("put back just above").emptied()[k];
             if light {
                 self.light_apex_through(t, &mut paths);
             }

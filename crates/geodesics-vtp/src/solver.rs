@@ -88,9 +88,8 @@ struct Solver<'a> {
     prov: Vec<Provenance>,
     /// AVTP: which vertices the resets restart, which lists they empty.
     reset: Option<ResetFront>,
-    /// AVTP lighting apices: the lists a reset empties, and Rule 1's paths
-    /// through one of them (kept to allocate nothing per reset).
-    reset_lists: Vec<u32>,
+    /// AVTP lighting apices: Rule 1's paths through a list a reset
+    /// empties (kept to allocate nothing per reset).
     reset_paths: Vec<(f64, f64, f64)>,
     /// The default merge (adjacent pairs, lists in edge order), decided
     /// once: the options sit behind a pointer and every append asks.
@@ -190,7 +189,6 @@ impl<'a> Solver<'a> {
                 Vec::new()
             },
             reset: options.reset.map(|r| ResetFront::new(r, mean_edge, nv)),
-            reset_lists: Vec::new(),
             reset_paths: Vec::new(),
             sorted_merge: options.pruning.pairs == PairRule::Adjacent
                 && options.merge == Merge::Sorted,
@@ -462,25 +460,19 @@ impl<'a> Solver<'a> {
         }
         let light = reset.lights_apices();
         let verts = &self.verts;
-        let to_empty = reset.lists_to_empty(self.mesh, |v| verts[v as usize].inside);
-        if !light {
-            for &h in to_empty {
-                self.drop_list(h);
-            }
-            self.reset = Some(reset);
-            return;
-        }
-        let mut lists = std::mem::take(&mut self.reset_lists);
-        lists.clear();
-        lists.extend_from_slice(to_empty);
-        // Back in place first: an apex reached for the first time joins
-        // the waiting wavefront vertices as any other.
+        let n = reset
+            .lists_to_empty(self.mesh, |v| verts[v as usize].inside)
+            .len();
+        // Back in place first: an apex lit for the first time joins the
+        // waiting wavefront vertices as any other.
         self.reset = Some(reset);
-        for &h in &lists {
-            self.light_apex_through(h);
+        for k in 0..n {
+            let h = self.reset.as_ref().expect("put back just above").emptied()[k];
+            if light {
+                self.light_apex_through(h);
+            }
             self.drop_list(h);
         }
-        self.reset_lists = lists;
     }
 
     /// AVTP lighting apices: the apex of `h`'s face takes Rule 1's best

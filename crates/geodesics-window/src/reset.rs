@@ -184,6 +184,13 @@ impl ResetFront {
         &self.joined
     }
 
+    /// What the last [`ResetFront::lists_to_empty`] returned (kept until the
+    /// next reset), for a caller that must hand the front back before it
+    /// walks them.
+    pub fn emptied(&self) -> &[u32] {
+        &self.to_empty
+    }
+
     /// The half-edges whose lists the reset just advanced empties (both
     /// half-edges of every edge between two reset vertices still on the
     /// wavefront, repeats possible); `inside` as for
