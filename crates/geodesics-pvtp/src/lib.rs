@@ -594,6 +594,7 @@ mod tests {
         let mesh = build(geodesics_shapes::bumpy_sphere(4, 1.0, 40, 0.2, 3));
         let sources = [Source::Vertex(0)];
         let exact = vtp(&mesh, &sources).distance;
+        // The issues' exactness bar: 1e-12 of the largest distance.
         let tol = 1e-12 * exact.iter().copied().fold(0.0, f64::max);
         let mean_error = |d: &[f64]| {
             let mut sum = 0.0;
