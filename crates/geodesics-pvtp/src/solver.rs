@@ -814,6 +814,9 @@ pub(crate) struct Solver<'a> {
     parallel_seconds: f64,
     /// PAVTP: which vertices the resets restart, which lists they empty.
     reset: Option<ResetFront>,
+    /// PAVTP lighting apices: Rule 1's paths through a list a reset
+    /// empties (kept to allocate nothing per reset).
+    reset_paths: Vec<(f64, f64, f64)>,
     /// Vertices the wavefront has passed (popped once), reported to
     /// `progress` each round.
     settled: u64,
@@ -887,6 +890,7 @@ impl<'a> Solver<'a> {
             reset: options
                 .reset
                 .map(|r| ResetFront::new(r, mesh.average_edge_length(), nv)),
+            reset_paths: Vec::new(),
             settled: 0,
             progress: options.progress.clone(),
         }
@@ -1310,11 +1314,10 @@ impl<'a> Solver<'a> {
         // time joins the waiting wavefront vertices as any other.
         self.reset = Some(reset);
         let mut dropped = 0u64;
-        let mut paths = Vec::new();
         for k in 0..n {
             let t = self.reset.as_ref().expect("put back just above").emptied()[k];
             if light {
-                self.light_apex_through(t, &mut paths);
+                self.light_apex_through(t);
             }
             for which in 0..2 {
                 let Some(idx) = take_slot(slots_of(&self.faces, t), which) else {
@@ -1336,7 +1339,7 @@ impl<'a> Solver<'a> {
     /// crossing the face would have given it, before the reset deletes
     /// them, and restarts the front if that lowers it (as `geodesics-vtp`'s
     /// reset does).
-    fn light_apex_through(&mut self, h: u32, paths: &mut Vec<(f64, f64, f64)>) {
+    fn light_apex_through(&mut self, h: u32) {
         if self.kind[Mesh::face_of(h) as usize] != FaceKind::Proper {
             return;
         }
@@ -1349,7 +1352,7 @@ impl<'a> Solver<'a> {
             let list = self.pool[idx as usize]
                 .get_mut()
                 .unwrap_or_else(PoisonError::into_inner);
-            if let Some((best, w, bend)) = path_to_apex(self.mesh, h, list, paths)
+            if let Some((best, w, bend)) = path_to_apex(self.mesh, h, list, &mut self.reset_paths)
                 && best < self.verts[apex as usize].dist
             {
                 // A restart, as in `geodesics-vtp`'s reset.
