@@ -115,6 +115,15 @@ struct Layout {
     primary: Vec<bool>,
 }
 
+/// Crossing's per-list buffers (Rule 1's view of the apex per window,
+/// each side's children), kept across lists.
+#[derive(Default)]
+struct CrossBuffers {
+    info: Vec<(f64, f64, f64)>,
+    left: Vec<EndedWindow>,
+    right: Vec<EndedWindow>,
+}
+
 /// One region's solver state (locked by the thread running its band).
 struct Region {
     index: usize,
@@ -152,9 +161,8 @@ struct Region {
     front: Vec<u32>,
     is_reset: Vec<bool>,
     grown: Vec<u32>,
-    info: Vec<(f64, f64, f64)>,
-    left: Vec<EndedWindow>,
-    right: Vec<EndedWindow>,
+    /// Crossing's buffers (and lighting's `info`).
+    cross: CrossBuffers,
     /// Scratch: the regions this one mails, and those that mailed it.
     mailed: Vec<u32>,
     senders: Vec<u32>,
@@ -746,9 +754,7 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                 front: Vec::new(),
                 is_reset: Vec::new(),
                 grown: Vec::new(),
-                info: Vec::new(),
-                left: Vec::new(),
-                right: Vec::new(),
+                cross: CrossBuffers::default(),
                 mailed: Vec::new(),
                 senders: Vec::new(),
                 merge: MergeBuffers::default(),
@@ -1225,7 +1231,7 @@ impl Region {
         }
         let h = 3 * f + i;
         let list = &self.pool[idx as usize];
-        let Some((best, w, bend)) = path_to_apex(shared.mesh, h, list, &mut self.info) else {
+        let Some((best, w, bend)) = path_to_apex(shared.mesh, h, list, &mut self.cross.info) else {
             return;
         };
         let apex = self.faces[lf as usize].corners[((i + 2) % 3) as usize];
@@ -1298,8 +1304,9 @@ impl Region {
                     if record[ENTERED] == NOT_ENTERED {
                         record[ENTERED] = self.counts.pops as u32;
                     }
-                    for i in 0..3 {
-                        self.queue(3 * lf + i);
+                    // On the record in hand (no index arithmetic), as VTP.
+                    for (i, word) in (3 * lf..).zip(&mut record[..ENTERED]) {
+                        queue_list(word, i, &mut self.fifo);
                     }
                 }
             }
@@ -1336,15 +1343,18 @@ impl Region {
     }
 
     fn drain(&mut self, shared: &Shared<'_>) {
+        // Held here for the whole drain, not taken and put back per list.
+        let mut scratch = std::mem::take(&mut self.cross);
         let mut next = 0;
         while let Some(&lh) = self.fifo.get(next) {
             next += 1;
             if let Some(&lg) = self.fifo.get(next) {
                 self.prefetch_list(lg);
             }
-            self.process(shared, lh);
+            self.process(shared, lh, &mut scratch);
         }
         self.fifo.clear();
+        self.cross = scratch;
     }
 
     /// Asks for the first windows of the list on local half-edge `lh`,
@@ -1524,7 +1534,7 @@ impl Region {
     }
 
     /// Propagates the list of local half-edge `lh` through its face.
-    fn process(&mut self, shared: &Shared<'_>, lh: u32) {
+    fn process(&mut self, shared: &Shared<'_>, lh: u32, scratch: &mut CrossBuffers) {
         let idx = std::mem::replace(list_word(&mut self.faces, lh), NO_LIST) & !QUEUED;
         if idx == NO_LIST {
             return;
@@ -1540,7 +1550,7 @@ impl Region {
             shared.kind[f as usize]
         };
         match kind {
-            FaceKind::Proper => self.cross(shared, lh, h, &list),
+            FaceKind::Proper => self.cross(shared, lh, h, &list, scratch),
             FaceKind::Zipper => {
                 // One edge of length zero: the windows pass on to the twin
                 // of the other long edge, as in VTP.
@@ -1558,7 +1568,14 @@ impl Region {
 
     /// VTP's crossing (Rule 1, one step per window, the vertex check on
     /// each child) of local half-edge `lh`, global `h`.
-    fn cross(&mut self, shared: &Shared<'_>, lh: u32, h: u32, list: &[EndedWindow]) {
+    fn cross(
+        &mut self,
+        shared: &Shared<'_>,
+        lh: u32,
+        h: u32,
+        list: &[EndedWindow],
+        scratch: &mut CrossBuffers,
+    ) {
         let mesh = shared.mesh;
         let (lf, i) = (lh / 3, lh % 3);
         let n = Mesh::next(h);
@@ -1581,8 +1598,8 @@ impl Region {
         let tri =
             Triangle::with_lengths(mesh.length(h), mesh.apex(h), mesh.length(p), mesh.length(n));
         let tol = self.tol;
-        let mut info = std::mem::take(&mut self.info);
-        let (best, k) = apex_paths(list, &tri, &mut info);
+        let CrossBuffers { info, left, right } = scratch;
+        let (best, k) = apex_paths(list, &tri, info);
         if best.is_finite() {
             let arrival = Arrival::Window {
                 half_edge: h,
@@ -1595,8 +1612,6 @@ impl Region {
             self.slots[sb as usize].dist,
             self.slots[sc as usize].dist,
         );
-        let mut left = std::mem::take(&mut self.left);
-        let mut right = std::mem::take(&mut self.right);
         // At most one child per window and side.
         if left.len() < list.len() {
             left.resize(list.len(), list[0]);
@@ -1605,20 +1620,19 @@ impl Region {
         let (mut n_left, mut n_right) = (0, 0);
         let props = step_windows(
             list,
-            &info,
+            info,
             &tri,
             (best, k),
             (da, db, dc),
             &tol,
-            (&mut left, &mut n_left),
-            (&mut right, &mut n_right),
+            (left, &mut n_left),
+            (right, &mut n_right),
         );
         self.counts.props += props;
         self.counts.created += props;
         if self.faces[lf as usize].lists[ENTERED] == self.counts.pops as u32 {
             self.counts.prime += props;
         }
-        self.info = info;
         // Beyond C → A and beyond B → C.
         if let Some((t, place)) = beyond_left {
             self.send_to(place, t, Some([sa, sc]), &mut left[..n_left]);
@@ -1626,8 +1640,6 @@ impl Region {
         if let Some((t, place)) = beyond_right {
             self.send_to(place, t, Some([sc, sb]), &mut right[..n_right]);
         }
-        self.left = left;
-        self.right = right;
     }
 
     /// Hands this band's letters over, writes the lowered distances
