@@ -33,12 +33,12 @@
 //! that grows band by band (Du et al.'s buckets); windows and distances
 //! that cross into another region are delayed to the next band and read
 //! in a fixed order, so the result is the same bits for every thread
-//! count. On 2 CPUs it scales better than the rounds (1.81–2.07× against
-//! 1.60–1.64× on 235K–871K faces, `cargo xtask pvtp`) but is 7–19 %
-//! slower than VTP on one thread, so it reaches 1.69–1.70× VTP on two
-//! (the rounds 1.47–1.53×), and 1.70–1.85× on a [`PreparedMesh`], which
-//! lays the regions out once for many solves; PAVTP (`geodesics-avtp`)
-//! runs on it.
+//! count. On 2 CPUs it scales better than the rounds (1.80–2.07× against
+//! 1.60–1.72× on 235K–871K faces, `cargo xtask pvtp`) but is 1–19 %
+//! slower than VTP on one thread (by mesh and run), so it reaches
+//! 1.69–1.81× VTP on two (the rounds 1.47–1.59×), and 1.70–1.90× on a
+//! [`PreparedMesh`], which lays the regions out once for many solves;
+//! PAVTP (`geodesics-avtp`) runs on it.
 //!
 //! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
 //! and the sources are pseudo-sources as in VTP: they emit windows when
@@ -141,8 +141,8 @@ pub enum Schedule {
     /// to a distance bound that grows band by band; windows and distances
     /// crossing into another region are delayed to the next band. No
     /// one-thread part between bands, so it scales further and suffers
-    /// less when the cores talk slowly; 10–18 % slower than VTP on one
-    /// thread. The same bits for every thread count.
+    /// less when the cores talk slowly; 1–19 % slower than VTP on one
+    /// thread (by mesh and run). The same bits for every thread count.
     Regions,
 }
 
