@@ -37,7 +37,9 @@ use geodesics_mesh::Mesh;
 use geodesics_window::face_lists::{
     ENTERED, FaceLists, NEW_FACE, NO_LIST, NOT_ENTERED, QUEUED, queue_list,
 };
-use geodesics_window::prune::{MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted};
+use geodesics_window::prune::{
+    CrossBuffers, MergeBuffers, apex_paths, beaten_from_edge_ends, merge_sorted,
+};
 use geodesics_window::{
     ARITY, Arrival, DistanceField, EndedWindow, FaceKind, NO_GROUP, NO_SOURCE, Progress, Shadow,
     SolverSetup, Source, Stats, Tolerance, Triangle, VertexQueue, VertexState, corner_neighbours,
@@ -113,15 +115,6 @@ struct Layout {
     /// Per slot: the vertex's first copy, the one that counts it as
     /// reached in the progress report.
     primary: Vec<bool>,
-}
-
-/// Crossing's per-list buffers (Rule 1's view of the apex per window,
-/// each side's children), kept across lists.
-#[derive(Default)]
-struct CrossBuffers {
-    info: Vec<(f64, f64, f64)>,
-    left: Vec<EndedWindow>,
-    right: Vec<EndedWindow>,
 }
 
 /// One region's solver state (locked by the thread running its band).

@@ -10,9 +10,9 @@ use geodesics_window::face_lists::{
     queue_list,
 };
 use geodesics_window::prune::{
-    MergeBuffers, PairOutcome, SplitOutcome, apex_paths, beaten_from_edge_ends, merge_behind,
-    merge_sorted, one_angle_two_sides, prune_adjacent_ended, prune_adjacent_splitting,
-    vertex_check_ended,
+    CrossBuffers, MergeBuffers, PairOutcome, SplitOutcome, apex_paths, beaten_from_edge_ends,
+    merge_behind, merge_sorted, one_angle_two_sides, prune_adjacent_ended,
+    prune_adjacent_splitting, vertex_check_ended,
 };
 use geodesics_window::{
     Arrival, DistanceField, EndedWindow, FaceKind, ResetFront, Shadow, SolverSetup, Source, Stats,
@@ -34,18 +34,6 @@ const UPCOMING: usize = geodesics_window::ARITY + 1;
 /// read costs about 27 ns here: one list in 32 spent 0.5 % of an
 /// armadillo.obj solve reading the clock.
 const PHASE_SAMPLE: u64 = 256;
-
-/// Scratch space of one list's crossing: Rule 1's `(t, sp, d)` per window
-/// and the children bound beyond each edge (`left` and `right` keep at
-/// least a slot per window of the longest list so far; a crossing fills
-/// their fronts). Owned by the main loop and lent to each crossing, so no
-/// crossing moves it in and out of the solver.
-#[derive(Default)]
-struct CrossBuffers {
-    info: Vec<(f64, f64, f64)>,
-    left: Vec<EndedWindow>,
-    right: Vec<EndedWindow>,
-}
 
 struct Solver<'a> {
     mesh: &'a Mesh,

@@ -729,6 +729,23 @@ pub fn merge_behind(list: &mut Vec<EndedWindow>, mut w: EndedWindow, tol: &Toler
     }
 }
 
+/// Scratch space of one list's crossing, kept by a sequential solver's
+/// loop (VTP's, and each region's in PVTP) and lent to every crossing, so
+/// no crossing allocates or moves buffers in and out of the solver:
+/// Rule 1's `(t, sp, d)` per window ([`apex_paths`]) and the children
+/// bound beyond each of the face's other two edges (`left` and `right`
+/// keep at least a slot per window of the longest list so far; a
+/// crossing fills their fronts).
+#[derive(Debug, Default)]
+pub struct CrossBuffers {
+    /// Rule 1's view of the apex, per window of the list crossed.
+    pub info: Vec<(f64, f64, f64)>,
+    /// Children bound beyond `AC`.
+    pub left: Vec<EndedWindow>,
+    /// Children bound beyond `CB`.
+    pub right: Vec<EndedWindow>,
+}
+
 /// Spare buffers for [`merge_sorted`], kept by a solver so merging
 /// allocates nothing once they have grown.
 #[derive(Debug, Default)]
