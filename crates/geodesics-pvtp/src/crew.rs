@@ -163,19 +163,37 @@ impl Crew {
     pub(crate) fn wait_completed(&self, n: usize) {
         let mut waiting = Waiting::new();
         while self.completed.0.load(Ordering::Acquire) < n {
-            if self.failed.load(Ordering::Acquire) {
-                let payload = self
-                    .failure
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .take();
-                panic::resume_unwind(payload.unwrap_or_else(|| Box::new("a crew helper panicked")));
-            }
-            if self.oversubscribed {
-                thread::yield_now();
-            } else {
-                waiting.pause();
-            }
+            self.raise_failure();
+            self.idle(&mut waiting);
+        }
+    }
+
+    /// Raises again, on the driving thread, the panic of a helper that
+    /// failed (if one did).
+    pub(crate) fn raise_failure(&self) {
+        if self.failed() {
+            let payload = self
+                .failure
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .take();
+            panic::resume_unwind(payload.unwrap_or_else(|| Box::new("a crew helper panicked")));
+        }
+    }
+
+    /// Whether a helper panicked (the others should return).
+    pub(crate) fn failed(&self) -> bool {
+        self.failed.load(Ordering::Acquire)
+    }
+
+    /// One pause of a thread waiting for the others: it yields its CPU at
+    /// once when the crew has more threads than the machine has CPUs.
+    #[inline]
+    pub(crate) fn idle(&self, waiting: &mut Waiting) {
+        if self.oversubscribed {
+            thread::yield_now();
+        } else {
+            waiting.pause();
         }
     }
 
@@ -191,6 +209,11 @@ impl Crew {
                 None
             }
         }
+    }
+
+    /// Whether the solve is over.
+    pub(crate) fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Acquire)
     }
 
     /// Ends the solve: waiting helpers return.
@@ -247,13 +270,13 @@ impl Drop for StopOnDrop<'_> {
 
 /// Spin, then yield: a wait that is cheap when short and lets other
 /// threads run when the machine has fewer cores than the crew.
-struct Waiting {
+pub(crate) struct Waiting {
     start: Instant,
     rounds: u32,
 }
 
 impl Waiting {
-    fn new() -> Waiting {
+    pub(crate) fn new() -> Waiting {
         Waiting {
             start: Instant::now(),
             rounds: 0,

@@ -29,7 +29,7 @@
 //! reset radius, and the next band resets each region's own wavefront
 //! copies (Algorithm 3 of Du et al., lines 6–14) before it propagates.
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Mutex, RwLock};
 use std::time::Instant;
 
@@ -48,7 +48,7 @@ use geodesics_window::{
 use rayon::prelude::*;
 
 use crate::PvtpOptions;
-use crate::crew::Crew;
+use crate::crew::{Crew, Waiting};
 use crate::solver::{cell_index, lock, read, step_windows, write};
 
 /// Region size, in mean edge lengths per side of a cube. Smaller regions
@@ -207,6 +207,9 @@ pub(crate) struct Prepared {
     place: Vec<FacePlace>,
     regions: Vec<Region>,
     copies: Grouped<(u32, u32)>,
+    /// Per region: the other regions with a copy of one of its vertices
+    /// (those it can mail and be mailed by).
+    neighbours: Vec<Vec<u32>>,
     /// The list buffers the threads held as spares when the last solve
     /// ended, handed out again to the next solve's threads.
     spares: Vec<Vec<EndedWindow>>,
@@ -246,8 +249,10 @@ struct Post {
     load: Vec<AtomicU64>,
     has_front: Vec<AtomicBool>,
     live: Vec<AtomicU64>,
-    /// The least distance mailed in this band (bits).
-    least_mailed: AtomicU64,
+    /// By band parity: the least distance mailed in the band (bits), and
+    /// whether anything was mailed.
+    least_mailed: [AtomicU64; 2],
+    mailed_any: [AtomicBool; 2],
     settled: AtomicU64,
     /// Per region, by band parity: the regions that mailed it (a sender
     /// adds itself once per band; the receiver sorts and empties it).
@@ -258,6 +263,22 @@ struct Post {
     /// (1.4M windows' room on the welded dragon against VTP's 0.3M), all
     /// of it fresh pages.
     spares: Vec<Mutex<Vec<Vec<EndedWindow>>>>,
+    /// The band the driving thread published last.
+    current: AtomicU64,
+    /// By band parity: the band's regions that finished.
+    done: [AtomicUsize; 2],
+    /// Per region: 1 + the band of its task not yet finished (0: none).
+    running: Vec<AtomicU64>,
+    /// Per region: 1 + the last band it was claimed for (by the driving
+    /// thread, or by a thread looking ahead; see `claim_ahead`).
+    claimed: Vec<AtomicU64>,
+    /// Per region claimed by a thread looking ahead: `(1 + band) << 1 |
+    /// active`, written once the claim is decided, and its queue top and
+    /// live windows before the band (the driving thread's sums of the
+    /// band before read these).
+    decided: Vec<AtomicU64>,
+    top_at_claim: Vec<AtomicU64>,
+    live_at_claim: Vec<AtomicU64>,
 }
 
 /// What the threads of a band read.
@@ -266,8 +287,15 @@ struct Band {
     bound: f64,
     /// AVTP: reset the wavefront copies within this distance first.
     guard: Option<f64>,
-    /// The active regions, in the crew's claim order.
+    /// The active regions the driving thread decided, in the crew's claim
+    /// order (those claimed ahead run already).
     order: Vec<u32>,
+    /// All of the band's active regions.
+    tasks: usize,
+    /// The next band's bound when threads may start it ahead (see
+    /// `claim_ahead`), and the regions that may be active in it.
+    ahead: Option<f64>,
+    candidates: Vec<u32>,
 }
 
 impl Prepared {
@@ -355,7 +383,11 @@ pub(crate) fn solve(
             .map(|r| AtomicBool::new(!r.front.is_empty()))
             .collect(),
         live: (0..nr).map(|_| AtomicU64::new(0)).collect(),
-        least_mailed: AtomicU64::new(f64::INFINITY.to_bits()),
+        least_mailed: [
+            AtomicU64::new(f64::INFINITY.to_bits()),
+            AtomicU64::new(f64::INFINITY.to_bits()),
+        ],
+        mailed_any: [AtomicBool::new(false), AtomicBool::new(false)],
         settled: AtomicU64::new(0),
         senders: (0..nr)
             .map(|_| [Mutex::new(Vec::new()), Mutex::new(Vec::new())])
@@ -370,11 +402,19 @@ pub(crate) fn solve(
                 })
                 .collect()
         },
+        current: AtomicU64::new(0),
+        done: [AtomicUsize::new(0), AtomicUsize::new(0)],
+        running: (0..nr).map(|_| AtomicU64::new(0)).collect(),
+        claimed: (0..nr).map(|_| AtomicU64::new(0)).collect(),
+        decided: (0..nr).map(|_| AtomicU64::new(0)).collect(),
+        top_at_claim: (0..nr).map(|_| AtomicU64::new(0)).collect(),
+        live_at_claim: (0..nr).map(|_| AtomicU64::new(0)).collect(),
     };
     // The seeds' windows are read in band 0, as mail of "band −1".
     for (r, region) in regions.iter().enumerate() {
         if !region.seed_windows.is_empty() {
             post.has_mail[r][1].store(true, Ordering::Relaxed);
+            post.mailed_any[1].store(true, Ordering::Relaxed);
         }
     }
     let regions: Vec<Mutex<Region>> = regions.into_iter().map(Mutex::new).collect();
@@ -383,6 +423,9 @@ pub(crate) fn solve(
         bound: f64::NEG_INFINITY,
         guard: None,
         order: Vec::new(),
+        tasks: 0,
+        ahead: None,
+        candidates: Vec::new(),
     });
     let crew = Crew::new(threads);
     let t0 = Instant::now();
@@ -396,25 +439,39 @@ pub(crate) fn solve(
         peak_live: 0,
         progress: options.progress.clone(),
     };
+    let team = Team {
+        crew: &crew,
+        band: &band,
+        regions: &regions,
+        post: &post,
+        shared: &shared,
+        neighbours: &prep.neighbours,
+        threads,
+    };
     rayon::scope(|scope| {
         for i in 1..threads {
-            let (crew, band, regions, post, shared) = (&crew, &band, &regions[..], &post, &shared);
             scope.spawn(move |_| {
+                let crew = team.crew;
                 let mut seen = 0;
+                let mut candidates = Vec::new();
                 while crew.wait_phase(&mut seen) {
-                    let Some(done) =
-                        crew.guarded(|| work(i, crew, &read(band), regions, post, shared))
-                    else {
+                    if crew
+                        .guarded(|| {
+                            team.work(i, &mut candidates);
+                            0
+                        })
+                        .is_none()
+                    {
                         return; // the driving thread raises the panic
-                    };
-                    crew.complete(done);
+                    }
                 }
             });
         }
         let _stop = crew.stop_on_drop();
-        driver.run(&crew, &band, &regions, &post, &shared);
+        driver.run(&team);
     });
     let band_seconds = t0.elapsed().as_secs_f64();
+
     let regions: Vec<Region> = regions
         .into_iter()
         .map(|m| {
@@ -763,6 +820,16 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
                 },
             }
         })
+        .collect::<Vec<Region>>();
+    let neighbours = regions
+        .par_iter()
+        .map(|r| {
+            let mut q: Vec<u32> = r.lay.copies.items.iter().map(|&(q, _)| q).collect();
+            q.retain(|&q| q as usize != r.index);
+            q.sort_unstable();
+            q.dedup();
+            q
+        })
         .collect();
     Prepared {
         all_proper: setup.kind.iter().all(|&k| k == FaceKind::Proper),
@@ -770,6 +837,7 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
         place,
         regions,
         copies,
+        neighbours,
         spares: Vec::new(),
     }
 }
@@ -827,33 +895,111 @@ struct Driver {
     progress: Progress,
 }
 
+/// What every thread of a solve reads: the crew, the band, the regions
+/// and their mail.
+#[derive(Clone, Copy)]
+struct Team<'a, 'm> {
+    crew: &'a Crew,
+    band: &'a RwLock<Band>,
+    regions: &'a [Mutex<Region>],
+    post: &'a Post,
+    shared: &'a Shared<'m>,
+    /// Per region: the regions it can mail and be mailed by (those with
+    /// a copy of one of its vertices).
+    neighbours: &'a [Vec<u32>],
+    threads: usize,
+}
+
 impl Driver {
-    fn run(
-        &mut self,
-        crew: &Crew,
-        band: &RwLock<Band>,
-        regions: &[Mutex<Region>],
-        post: &Post,
-        shared: &Shared<'_>,
-    ) {
-        let nr = regions.len();
+    /// The bands, one after the other. Between two bands the driving
+    /// thread sums what the regions left (their queues' tops, the mail),
+    /// picks the next bound and the regions with work, and hands them to
+    /// the crew.
+    ///
+    /// Band `k + 1`'s bound is picked before band `k` runs (from the state
+    /// after band `k − 1`), so a thread that has run out of band `k`'s
+    /// regions can start band `k + 1` in a region whose neighbours are
+    /// done with band `k` (`claim_ahead`): that region's band reads
+    /// exactly what it would read after a barrier, so the result is the
+    /// same whoever runs it when. This hides most of the wait at the end
+    /// of a band for its longest region. Bands that may reset AVTP's
+    /// wavefront are not started ahead: their guard needs the state after
+    /// the band before.
+    fn run(&mut self, team: &Team<'_, '_>) {
+        let Team {
+            crew,
+            band,
+            post,
+            neighbours,
+            ..
+        } = *team;
+        let nr = team.regions.len();
         let t = self.threads.max(1);
         let mut bound = f64::NEG_INFINITY;
         let mut queues: Vec<Vec<u32>> = vec![Vec::new(); t];
         let mut bounds = vec![(0, 0); t];
+        // Per region: its queue's top after the last band.
+        let mut tops = vec![f64::INFINITY; nr];
+        // This band's bound, if it was picked a band ahead, and the
+        // regions that may be active in it.
+        let mut ahead: Option<f64> = None;
+        let mut candidates: Vec<u32> = Vec::new();
+        let mut next_candidates: Vec<u32> = Vec::new();
+        // Which of the driving thread's candidates it claimed itself.
+        let mut mine: Vec<u32> = Vec::new();
+        let mut active: Vec<u32> = Vec::new();
+        let mut seen = vec![u64::MAX; nr];
+        let mut scratch = Vec::new();
         loop {
             let index = self.bands;
+            let stamp = index + 1;
             let last = ((index + 1) % 2) as usize;
+            // Claim the band's candidates nobody started ahead; wait for
+            // the decisions of those somebody did.
+            mine.clear();
+            active.clear();
+            let mut early = 0;
+            if ahead.is_some() {
+                for &r in &candidates {
+                    let claimed = &post.claimed[r as usize];
+                    let v = claimed.load(Ordering::Acquire);
+                    if v < stamp
+                        && claimed
+                            .compare_exchange(v, stamp, Ordering::AcqRel, Ordering::Acquire)
+                            .is_ok()
+                    {
+                        mine.push(r);
+                        continue;
+                    }
+                    let mut waiting = Waiting::new();
+                    loop {
+                        let d = post.decided[r as usize].load(Ordering::Acquire);
+                        if d >> 1 == stamp {
+                            if d & 1 == 1 {
+                                active.push(r);
+                                early += 1;
+                            }
+                            break;
+                        }
+                        crew.idle(&mut waiting);
+                    }
+                }
+            }
             let mut least = f64::from_bits(
-                post.least_mailed
-                    .swap(f64::INFINITY.to_bits(), Ordering::Relaxed),
+                post.least_mailed[last].swap(f64::INFINITY.to_bits(), Ordering::Acquire),
             );
-            let mut mail = false;
+            let mail = post.mailed_any[last].swap(false, Ordering::Acquire);
             let mut live = 0;
-            for r in 0..nr {
-                least = least.min(f64::from_bits(post.top[r].load(Ordering::Relaxed)));
-                mail |= post.has_mail[r][last].load(Ordering::Relaxed);
-                live += post.live[r].load(Ordering::Relaxed);
+            for (r, top) in tops.iter_mut().enumerate() {
+                // A region started ahead reported its state before it.
+                let (t, l) = if post.decided[r].load(Ordering::Acquire) >> 1 == stamp {
+                    (&post.top_at_claim[r], &post.live_at_claim[r])
+                } else {
+                    (&post.top[r], &post.live[r])
+                };
+                *top = f64::from_bits(t.load(Ordering::Relaxed));
+                least = least.min(*top);
+                live += l.load(Ordering::Relaxed);
             }
             self.peak_live = self.peak_live.max(live);
             self.progress
@@ -864,40 +1010,86 @@ impl Driver {
             if !least.is_finite() && !mail {
                 break;
             }
-            // AVTP (Algorithm 3 of Du et al.): the wavefront passed the
-            // next multiple of λh.
             let mut guard = None;
-            if let Some((step, guard_band)) = self.reset_step
-                && least <= shared.max_distance
-                && least >= self.next_reset
-            {
-                let steps = (least / step).floor();
-                self.next_reset = (steps + 1.0) * step;
-                guard = Some(steps * step + guard_band);
-                self.resets += 1;
+            if let Some(b) = ahead {
+                bound = b;
+                debug_assert!(
+                    (0..nr).all(|r| seen[r] == index - 1
+                        || (tops[r] >= bound && !post.has_mail[r][last].load(Ordering::Relaxed))),
+                    "only a band's candidates can be active in it"
+                );
+                for &r in &mine {
+                    let mailed = post.has_mail[r as usize][last].swap(false, Ordering::Relaxed);
+                    if mailed || tops[r as usize] < bound {
+                        active.push(r);
+                    }
+                }
+            } else {
+                // AVTP (Algorithm 3 of Du et al.): the wavefront passed
+                // the next multiple of λh.
+                if let Some((step, guard_band)) = self.reset_step
+                    && least <= team.shared.max_distance
+                    && least >= self.next_reset
+                {
+                    let steps = (least / step).floor();
+                    self.next_reset = (steps + 1.0) * step;
+                    guard = Some(steps * step + guard_band);
+                    self.resets += 1;
+                }
+                if least.is_finite() {
+                    bound = (bound.max(least) + self.delta).min(self.stop(least, team));
+                }
+                for (r, &top) in tops.iter().enumerate() {
+                    let mailed = post.has_mail[r][last].swap(false, Ordering::Relaxed);
+                    let front = guard.is_some() && post.has_front[r].load(Ordering::Relaxed);
+                    if mailed || front || top < bound {
+                        active.push(r as u32);
+                    }
+                }
             }
-            if least.is_finite() {
-                // A band stops at the next reset radius; beyond the
-                // distance limit no reset comes (and a bound held there
-                // would never let the wavefront pass it).
-                let stop = if least <= shared.max_distance {
-                    self.next_reset
-                } else {
-                    f64::INFINITY
+            // The next band's bound, from the state after the last band;
+            // it is picked now only when no reset can fall in that band
+            // (its bound stays below the next reset radius).
+            let next = if least.is_finite() {
+                (bound.max(least) + self.delta).min(self.stop(least, team))
+            } else {
+                f64::INFINITY
+            };
+            let look_ahead = next < self.next_reset && next.is_finite();
+            next_candidates.clear();
+            if look_ahead {
+                // Active next: this band's regions, their neighbours (the
+                // mail) and the regions whose top is below the bound.
+                let mut add = |r: u32| {
+                    if seen[r as usize] != index {
+                        seen[r as usize] = index;
+                        next_candidates.push(r);
+                    }
                 };
-                bound = (bound.max(least) + self.delta).min(stop);
+                for &r in &active {
+                    add(r);
+                    for &q in &neighbours[r as usize] {
+                        add(q);
+                    }
+                }
+                for (r, &top) in tops.iter().enumerate() {
+                    if top < next {
+                        add(r as u32);
+                    }
+                }
+                next_candidates.sort_by_key(|&r| {
+                    std::cmp::Reverse(post.load[r as usize].load(Ordering::Relaxed))
+                });
             }
             for q in &mut queues {
                 q.clear();
             }
-            for r in 0..nr {
-                let mailed = post.has_mail[r][last].swap(false, Ordering::Relaxed);
-                let front = guard.is_some() && post.has_front[r].load(Ordering::Relaxed);
-                let top = f64::from_bits(post.top[r].load(Ordering::Relaxed));
-                if mailed || front || top < bound {
-                    queues[r % t].push(r as u32);
-                }
+            for &r in &active[early..] {
+                post.running[r as usize].store(stamp, Ordering::Relaxed);
+                queues[r as usize % t].push(r);
             }
+            // No task of the next band has started: its count can restart.
+            post.done[(stamp % 2) as usize].store(0, Ordering::Relaxed);
             let mut n = 0;
             let mut spec = write(band);
             spec.order.clear();
@@ -914,43 +1106,110 @@ impl Driver {
             spec.index = index;
             spec.bound = bound;
             spec.guard = guard;
+            spec.tasks = active.len();
+            spec.ahead = look_ahead.then_some(next);
+            std::mem::swap(&mut spec.candidates, &mut next_candidates);
+            post.current.store(index, Ordering::Release);
             crew.begin(&bounds);
             drop(spec);
-            if n > 1 && t > 1 {
+            if t > 1 && (n > 1 || (look_ahead && !active.is_empty())) {
                 crew.publish();
             }
-            let done = work(0, crew, &read(band), regions, post, shared);
-            crew.complete(done);
-            crew.wait_completed(n);
+            team.work(0, &mut scratch);
+            // The next band's candidates, as the threads saw them.
+            candidates.clear();
+            candidates.extend_from_slice(&read(band).candidates);
+            ahead = look_ahead.then_some(next);
             self.bands += 1;
+        }
+    }
+
+    /// Where the band after one whose least queued distance is `least`
+    /// must stop: the next reset radius, or nowhere beyond the distance
+    /// limit (no reset comes there, and a bound held there would never
+    /// let the wavefront pass it).
+    fn stop(&self, least: f64, team: &Team<'_, '_>) -> f64 {
+        if least <= team.shared.max_distance {
+            self.next_reset
+        } else {
+            f64::INFINITY
         }
     }
 }
 
-/// A thread's share of a band: the regions it claims.
-fn work(
-    w: usize,
-    crew: &Crew,
-    band: &Band,
-    regions: &[Mutex<Region>],
-    post: &Post,
-    shared: &Shared<'_>,
-) -> usize {
-    let mut done = 0;
-    let mut spares = lock(&post.spares[w]);
-    while let Some(pos) = crew.claim(w) {
-        let r = band.order[pos] as usize;
-        let mut region = lock(&regions[r]);
+impl Team<'_, '_> {
+    /// A thread's share of a band: the regions it claims, then, while the
+    /// band's last regions run, regions of the next band it can start
+    /// ahead.
+    fn work(&self, w: usize, candidates: &mut Vec<u32>) {
+        let post = self.post;
+        let mut spares = lock(&post.spares[w]);
+        let (index, tasks, ahead) = {
+            let band = read(self.band);
+            while let Some(pos) = self.crew.claim(w) {
+                let r = band.order[pos] as usize;
+                self.run_band(r, band.index, band.bound, band.guard, &mut spares);
+            }
+            candidates.clear();
+            candidates.extend_from_slice(&band.candidates);
+            (band.index, band.tasks, band.ahead)
+        };
+        let parity = (index % 2) as usize;
+        let mut waiting = Waiting::new();
+        // The band's finished regions when the candidates were last
+        // looked at: none can become ready before another finishes.
+        let mut looked = usize::MAX;
+        loop {
+            let done = post.done[parity].load(Ordering::Acquire);
+            // Once the band is over, the driving thread picks the next
+            // one; the others look ahead until it is published.
+            let over = done >= tasks;
+            if (over && (w == 0 || ahead.is_none()))
+                || post.current.load(Ordering::Acquire) != index
+                || self.crew.stopped()
+            {
+                return;
+            }
+            if w == 0 {
+                self.crew.raise_failure();
+            } else if self.crew.failed() {
+                return;
+            }
+            if let Some(bound) = ahead
+                && done != looked
+            {
+                if self.claim_ahead(w, index + 1, bound, candidates, &mut spares) {
+                    waiting = Waiting::new();
+                    continue;
+                }
+                looked = done;
+            }
+            self.crew.idle(&mut waiting);
+        }
+    }
+
+    /// Region `r`'s band `index`: its mail, AVTP's reset, VTP's loop up to
+    /// `bound`, its own mail out.
+    fn run_band(
+        &self,
+        r: usize,
+        index: u64,
+        bound: f64,
+        guard: Option<f64>,
+        spares: &mut Vec<Vec<EndedWindow>>,
+    ) {
+        let (post, shared) = (self.post, self.shared);
+        let mut region = lock(&self.regions[r]);
         let before = region.counts;
-        std::mem::swap(&mut region.spares, &mut spares);
-        region.receive(shared, post, band.index);
-        if let Some(guard) = band.guard {
+        std::mem::swap(&mut region.spares, spares);
+        region.receive(shared, post, index);
+        if let Some(guard) = guard {
             region.reset(shared, guard);
         }
-        region.run(shared, band.bound);
-        region.flush(post, band.index);
+        region.run(shared, bound);
+        region.flush(post, index);
         region.give_back_lists();
-        std::mem::swap(&mut region.spares, &mut spares);
+        std::mem::swap(&mut region.spares, spares);
         let c = region.counts;
         drop(region);
         post.load[r].store(
@@ -959,9 +1218,66 @@ fn work(
         );
         post.settled
             .fetch_add(c.settled - before.settled, Ordering::Relaxed);
-        done += 1;
+        // Cleared before counted: the driving thread marks the next
+        // band's tasks once all of this band's are counted.
+        post.running[r].store(0, Ordering::Release);
+        post.done[(index % 2) as usize].fetch_add(1, Ordering::Release);
     }
-    done
+
+    /// Starts band `index` ahead in one of its `candidates` (this thread's
+    /// own first) whose neighbours and itself are done with the band
+    /// before: nothing can reach it from that band any more, so whether
+    /// it is active and what it reads are final. Returns whether it
+    /// claimed one.
+    fn claim_ahead(
+        &self,
+        w: usize,
+        index: u64,
+        bound: f64,
+        candidates: &[u32],
+        spares: &mut Vec<Vec<EndedWindow>>,
+    ) -> bool {
+        let post = self.post;
+        let stamp = index + 1;
+        let t = self.threads.max(1);
+        for own in [true, false] {
+            for &c in candidates {
+                let c = c as usize;
+                if (c % t == w) != own {
+                    continue;
+                }
+                let claimed = &post.claimed[c];
+                let v = claimed.load(Ordering::Acquire);
+                // The band before is `index − 1`, marked `index` in `running`.
+                let busy = |q: usize| post.running[q].load(Ordering::Acquire) == index;
+                if v >= stamp || busy(c) || self.neighbours[c].iter().any(|&q| busy(q as usize)) {
+                    continue;
+                }
+                if claimed
+                    .compare_exchange(v, stamp, Ordering::AcqRel, Ordering::Acquire)
+                    .is_err()
+                {
+                    continue;
+                }
+                let top = post.top[c].load(Ordering::Relaxed);
+                post.top_at_claim[c].store(top, Ordering::Relaxed);
+                post.live_at_claim[c]
+                    .store(post.live[c].load(Ordering::Relaxed), Ordering::Relaxed);
+                let mailed =
+                    post.has_mail[c][((index + 1) % 2) as usize].swap(false, Ordering::Relaxed);
+                let active = mailed || f64::from_bits(top) < bound;
+                if active {
+                    post.running[c].store(stamp, Ordering::Relaxed);
+                }
+                post.decided[c].store(stamp << 1 | active as u64, Ordering::Release);
+                if active {
+                    self.run_band(c, index, bound, None, spares);
+                }
+                return true;
+            }
+        }
+        false
+    }
 }
 
 /// How many spare list buffers a thread keeps (beyond, they are freed).
@@ -1672,10 +1988,12 @@ impl Region {
             post.has_mail[q as usize][parity].store(true, Ordering::Relaxed);
             lock(&post.senders[q as usize][parity]).push(self.index as u32);
         }
+        if !mailed.is_empty() {
+            post.mailed_any[parity].store(true, Ordering::Relaxed);
+        }
         self.mailed = mailed;
         drop(outbox);
-        post.least_mailed
-            .fetch_min(least.to_bits(), Ordering::Relaxed);
+        post.least_mailed[parity].fetch_min(least.to_bits(), Ordering::Relaxed);
         post.top[self.index].store(self.top().to_bits(), Ordering::Relaxed);
         post.has_front[self.index].store(!self.front.is_empty(), Ordering::Relaxed);
         post.live[self.index].store(self.counts.live, Ordering::Relaxed);
