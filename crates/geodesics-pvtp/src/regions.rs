@@ -19,6 +19,10 @@
 //! busiest of the last band first, then it steals), and the result does not
 //! depend on the thread count at all, not only from run to run. Between
 //! bands one thread only picks the next bound and the regions with work.
+//! Each band's bound is picked one band early, so a thread that has run
+//! out of band `k`'s regions starts band `k + 1` in a region whose
+//! neighbours (the regions that can mail it) are done with band `k`: it
+//! reads then what it would read after a barrier (see `Driver::run`).
 //! Any order of propagation is exact (every pruning rule is sound in any
 //! order: a window that arrives a band late is propagated then, like a
 //! list VTP queues again after its face was entered), at the cost of
