@@ -1081,7 +1081,10 @@ impl Driver {
                         add(r as u32);
                     }
                 }
-                next_candidates.sort_by_key(|&r| {
+                // Each load read once: a region started ahead may be
+                // writing its own meanwhile (a comparison that changes
+                // under the sort breaks it).
+                next_candidates.sort_by_cached_key(|&r| {
                     std::cmp::Reverse(post.load[r as usize].load(Ordering::Relaxed))
                 });
             }
