@@ -2009,7 +2009,84 @@ impl Region {
 
 #[cfg(test)]
 mod tests {
-    use super::Grouping;
+    use super::*;
+    use crate::WindowReset;
+    use geodesics_mesh::BuildOptions;
+
+    /// Solves on regions `cell_edges` mean edges wide with `threads`
+    /// threads; returns the distances' bits, the propagations and the
+    /// bands.
+    fn small_regions(
+        mesh: &Mesh,
+        sources: &[Source],
+        reset: Option<WindowReset>,
+        cell_edges: f64,
+        threads: usize,
+    ) -> (Vec<u64>, u64, u64, usize) {
+        let mut prepared = Some(build(mesh, cell_edges * mesh.average_edge_length()));
+        let regions = prepared.as_ref().map_or(0, Prepared::region_count);
+        let options = PvtpOptions {
+            threads,
+            reset,
+            ..PvtpOptions::default()
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a test pool");
+        let (field, stats) = pool.install(|| {
+            solve(
+                &mut prepared,
+                mesh,
+                sources,
+                &options,
+                threads,
+                Instant::now(),
+            )
+        });
+        let bits = field.distance.iter().map(|d| d.to_bits()).collect();
+        (
+            bits,
+            stats.window_propagations,
+            stats.parallel_phases,
+            regions,
+        )
+    }
+
+    /// Regions a few edges wide: hundreds of them, tens per band, so
+    /// threads start bands ahead (`claim_ahead`) all the time. Whoever
+    /// runs a region's band, and when, the bits and counts stay those of
+    /// one thread, exact PVTP and PAVTP alike.
+    #[test]
+    fn starting_bands_ahead_changes_no_bit() {
+        let soup = geodesics_shapes::bumpy_sphere(4, 1.0, 12, 0.15, 7);
+        let mesh = Mesh::build(soup, &BuildOptions::default()).expect("valid test mesh");
+        let sources = [Source::Vertex(0), Source::Vertex(900)];
+        let exact = geodesics_vtp::solve(&mesh, &sources, &Default::default())
+            .expect("valid input")
+            .0;
+        for reset in [None, Some(WindowReset::every(3.0))] {
+            let one = small_regions(&mesh, &sources, reset, 3.0, 1);
+            assert!(one.3 > 100, "{} regions", one.3);
+            if reset.is_none() {
+                let scale = exact.distance.iter().fold(0.0f64, |m, &d| m.max(d));
+                for (v, (&a, e)) in one.0.iter().zip(&exact.distance).enumerate() {
+                    let a = f64::from_bits(a);
+                    assert!(
+                        (a - e).abs() <= 1e-12 * scale,
+                        "vertex {v}: {a} against {e}"
+                    );
+                }
+            }
+            for threads in [2, 3, 4] {
+                for _ in 0..3 {
+                    let other = small_regions(&mesh, &sources, reset, 3.0, threads);
+                    assert!(other.0 == one.0, "T={threads}, reset {reset:?}: other bits");
+                    assert_eq!((other.1, other.2), (one.1, one.2), "T={threads}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn grouped_items_keep_their_order_within_a_key() {
