@@ -197,10 +197,10 @@ impl Crew {
         }
     }
 
-    /// A helper's share of a phase: `work` returns how many jobs it ran,
-    /// `None` if it panicked (recorded for the driving thread; the helper
-    /// should return).
-    pub(crate) fn guarded(&self, work: impl FnOnce() -> usize) -> Option<usize> {
+    /// A helper's share of a phase: what `work` returns (in PVTP's rounds,
+    /// how many jobs it ran), `None` if it panicked (recorded for the
+    /// driving thread; the helper should return).
+    pub(crate) fn guarded<R>(&self, work: impl FnOnce() -> R) -> Option<R> {
         match panic::catch_unwind(AssertUnwindSafe(work)) {
             Ok(done) => Some(done),
             Err(payload) => {

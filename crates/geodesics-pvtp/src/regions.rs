@@ -459,13 +459,7 @@ pub(crate) fn solve(
                 let mut seen = 0;
                 let mut candidates = Vec::new();
                 while crew.wait_phase(&mut seen) {
-                    if crew
-                        .guarded(|| {
-                            team.work(i, &mut candidates);
-                            0
-                        })
-                        .is_none()
-                    {
+                    if crew.guarded(|| team.work(i, &mut candidates)).is_none() {
                         return; // the driving thread raises the panic
                     }
                 }
@@ -475,7 +469,6 @@ pub(crate) fn solve(
         driver.run(&team);
     });
     let band_seconds = t0.elapsed().as_secs_f64();
-
     let regions: Vec<Region> = regions
         .into_iter()
         .map(|m| {
