@@ -33,12 +33,14 @@
 //! that grows band by band (Du et al.'s buckets); windows and distances
 //! that cross into another region are delayed to the next band and read
 //! in a fixed order, so the result is the same bits for every thread
-//! count. On 2 CPUs it scales better than the rounds (1.80–2.07× against
-//! 1.60–1.72× on 235K–871K faces, `cargo xtask pvtp`) but is 1–19 %
-//! slower than VTP on one thread (by mesh and run), so it reaches
-//! 1.69–1.81× VTP on two (the rounds 1.47–1.59×), and 1.70–1.90× on a
-//! [`PreparedMesh`], which lays the regions out once for many solves;
-//! PAVTP (`geodesics-avtp`) runs on it.
+//! count. A thread out of one band's regions starts the next band in
+//! regions whose neighbours are done with this one, so the threads seldom
+//! wait at a band's end. On 2 CPUs it scales better than the rounds
+//! (1.83–2.03× against 1.61–1.83× on 235K–871K faces, `cargo xtask
+//! pvtp`, two runs on one day) and runs at 0.91–0.98× VTP's speed on one
+//! thread, so it reaches 1.75–1.88× VTP on two (the rounds 1.50–1.70×),
+//! and 1.77–1.95× on a [`PreparedMesh`], which lays the regions out once
+//! for many solves; PAVTP (`geodesics-avtp`) runs on it.
 //!
 //! Saddle, boundary, flat and pinch vertices, corners of zero-area faces
 //! and the sources are pseudo-sources as in VTP: they emit windows when
@@ -141,7 +143,7 @@ pub enum Schedule {
     /// to a distance bound that grows band by band; windows and distances
     /// crossing into another region are delayed to the next band. No
     /// one-thread part between bands, so it scales further and suffers
-    /// less when the cores talk slowly; 1–19 % slower than VTP on one
+    /// less when the cores talk slowly; 2–9 % slower than VTP on one
     /// thread (by mesh and run). The same bits for every thread count.
     Regions,
 }
