@@ -49,11 +49,11 @@
 //! result is the same bits for every thread count (and, like AVTP, never
 //! below exact); it differs from sequential AVTP's in the last digits of
 //! the error only (mean error 7.63e-4 against 7.64e-4 on the coarse Loop×3
-//! bunny at λ = 8). On 2 CPUs it ran at 1.09–1.31× AVTP's speed at λ = 8
-//! on meshes of 70K–280K faces and 1.38–1.41× on 0.9–1.1M faces
-//! (1.56–1.88× at λ = 32–128 on the larger ones), and, on a mesh kept
-//! ready for many solves ([`solve_prepared`]), 1.22–1.52× and 1.59–1.64×
-//! (1.64–1.95× at λ = 32–128) (`cargo xtask avtp --large`, on a noisy
+//! bunny at λ = 8). On 2 CPUs it ran at 1.33–1.42× AVTP's speed at λ = 8
+//! on meshes of 70K–280K faces and 1.49–1.50× on 0.9–1.1M faces
+//! (1.58–1.97× at λ = 32–128 on the larger ones), and, on a mesh kept
+//! ready for many solves ([`solve_prepared`]), 1.53–1.72× and 1.68–1.73×
+//! (1.85–2.08× at λ = 32–128) (`cargo xtask avtp --large`, on a noisy
 //! day);
 //! PVTP's rounds, which it used before, ran at 0.7–0.9×: their one-thread
 //! part cost about what AVTP's whole solve does.
