@@ -942,10 +942,16 @@ impl Driver {
         let mut ahead: Option<f64> = None;
         let mut candidates: Vec<u32> = Vec::new();
         let mut next_candidates: Vec<u32> = Vec::new();
-        // Which of the driving thread's candidates it claimed itself.
+        // The band's candidates the driving thread claimed itself (no
+        // thread started them ahead).
         let mut mine: Vec<u32> = Vec::new();
+        // The band's active regions: the `early` ones started ahead
+        // first, then those the driving thread hands to the crew.
         let mut active: Vec<u32> = Vec::new();
+        // Per region: the last band whose candidates for the next took it.
         let mut seen = vec![u64::MAX; nr];
+        // The driving thread's copy of the next band's candidates while
+        // it works (as each helper keeps its own).
         let mut scratch = Vec::new();
         loop {
             let index = self.bands;
