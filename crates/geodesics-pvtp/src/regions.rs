@@ -1040,7 +1040,7 @@ impl Driver {
                     self.resets += 1;
                 }
                 if least.is_finite() {
-                    bound = (bound.max(least) + self.delta).min(self.stop(least, team));
+                    bound = self.bound_after(bound, least, team);
                 }
                 for (r, &top) in tops.iter().enumerate() {
                     let mailed = post.has_mail[r][last].swap(false, Ordering::Relaxed);
@@ -1054,7 +1054,7 @@ impl Driver {
             // it is picked now only when no reset can fall in that band
             // (its bound stays below the next reset radius).
             let next = if least.is_finite() {
-                (bound.max(least) + self.delta).min(self.stop(least, team))
+                self.bound_after(bound, least, team)
             } else {
                 f64::INFINITY
             };
@@ -1122,12 +1122,19 @@ impl Driver {
                 crew.publish();
             }
             team.work(0, &mut scratch);
-            // The next band's candidates, as the threads saw them.
-            candidates.clear();
-            candidates.extend_from_slice(&read(band).candidates);
+            // The next band's candidates, as the threads saw them: `work`
+            // copied them into `scratch`.
+            std::mem::swap(&mut candidates, &mut scratch);
             ahead = look_ahead.then_some(next);
             self.bands += 1;
         }
+    }
+
+    /// The bound of the band after one bounded by `bound` when the
+    /// nearest queued or mailed distance is `least` (finite): `δ` beyond
+    /// the farther of the two, but not past `stop`.
+    fn bound_after(&self, bound: f64, least: f64, team: &Team<'_, '_>) -> f64 {
+        (bound.max(least) + self.delta).min(self.stop(least, team))
     }
 
     /// Where the band after one whose least queued distance is `least`
