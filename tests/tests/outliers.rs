@@ -43,7 +43,7 @@ fn a_far_vertex_leaves_the_tolerance_and_the_work_of_the_rest() {
     let origin = flap.position(0);
     // Rounding allowed: 1e-12 of the grid's largest distance (its diagonal).
     let tol = EXACT * f64::from(n) * 2f64.sqrt();
-    for name in ["vtp", "ftp", "ich", "mmp", "pvtp", "pvtp-regions"] {
+    for name in ["vtp", "ftp", "ich", "mmp", "pvtp", "pvtp-rounds"] {
         let algorithm: Algorithm = name.parse().unwrap();
         let (base, base_stats) = compute(&plain, &source, &algorithm).unwrap();
         let (field, stats) = compute(&flap, &source, &algorithm).unwrap();

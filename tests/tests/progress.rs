@@ -12,7 +12,7 @@ const ALGORITHMS: &[&str] = &[
     "avtp",
     "pavtp",
     "pvtp",
-    "pvtp-regions",
+    "pvtp-rounds",
     "mmp",
     "fwp-mmp",
     "ich",

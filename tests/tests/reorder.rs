@@ -164,7 +164,7 @@ fn check(name: &str, soup: &IndexedTriangles, weld: bool, algorithms: &[&str]) {
     }
 }
 
-const ALL: &[&str] = &["vtp", "pvtp", "pvtp-regions", "avtp", "mmp", "ich"];
+const ALL: &[&str] = &["vtp", "pvtp", "pvtp-rounds", "avtp", "mmp", "ich"];
 
 #[test]
 fn procedural_meshes() {
@@ -191,7 +191,11 @@ fn real_meshes() {
     };
     for (file, weld, algorithms) in [
         ("cow.obj", false, ALL),
-        ("bunny_zipper.ply", false, &["vtp", "pvtp"][..]),
+        (
+            "bunny_zipper.ply",
+            false,
+            &["vtp", "pvtp", "pvtp-rounds"][..],
+        ),
         ("armadillo.obj", false, &["vtp", "avtp"][..]),
         ("blade.off", false, &["vtp"][..]),
     ] {

@@ -14,14 +14,14 @@ use crate::cores::{FAST_ROUND_TRIP_NS, RoundTrips};
 use crate::report::{Cell, Column, JsonFile, Report, number};
 use crate::{Interleaved, Spread, build_renumbered, coarse_bunny, data_dir, read};
 
-/// What is timed at every T: PVTP's two ways of cutting the work, each
-/// solve setting up anew as `geodesics::compute` does, and the region
-/// schedule on a mesh kept prepared across solves (`PreparedMesh`), with
-/// their row names.
+/// What is timed at every T: PVTP's two ways of cutting the work (the
+/// default regions, the paper's rounds), each solve setting up anew as
+/// `geodesics::compute` does, and the region schedule on a mesh kept
+/// prepared across solves (`PreparedMesh`), with their row names.
 const VARIANTS: [(Schedule, bool, &str); 3] = [
-    (Schedule::Rounds, false, "PVTP"),
-    (Schedule::Regions, false, "PVTP, regions"),
-    (Schedule::Regions, true, "PVTP, regions, prepared"),
+    (Schedule::Regions, false, "PVTP (regions)"),
+    (Schedule::Regions, true, "PVTP (regions), prepared"),
+    (Schedule::Rounds, false, "PVTP, the paper's rounds"),
 ];
 
 /// The scaling table, one row for VTP and one per schedule and thread
@@ -179,7 +179,7 @@ pub fn table(runs: usize, large: bool, json: Option<JsonFile>) -> Result<()> {
         ),
     );
     report.note(
-        "Speed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. PVTP, regions: the region schedule (`Schedule::Regions`): its phases are the bands, and outside them is the setup (cutting the mesh into regions) and the result. PVTP, regions, prepared: the same on one `geodesics::PreparedMesh` kept across the rounds, laid out once before them (untimed), as a caller solving many sources on one mesh would: outside the bands is then restarting the regions' state and the result. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
+        "Speed-ups: the median over the rounds of the ratio within a round (range in brackets). Outside the phases: the solve's time on one thread (selection, delayed writes, setup) in the fastest run, and its share of that run. PVTP (regions): the default region schedule (`Schedule::Regions`): its phases are the bands, and outside them is the setup (cutting the mesh into regions) and the result. PVTP (regions), prepared: the same on one `geodesics::PreparedMesh` kept across the rounds, laid out once before them (untimed), as a caller solving many sources on one mesh would: outside the bands is then restarting the regions' state and the result. VTP, T solves at once: T independent sequential solves on T threads, timed together against one alone in the same round; its speed-up is their throughput, T × (one alone) ÷ (T at once): what T threads give work with no sequential part and nothing shared but the mesh, the ceiling for PVTP on this machine (below T where the threads share a core's caches or the memory bus).",
     );
     report.finish()
 }

@@ -33,9 +33,9 @@ pub struct DistanceArgs {
     /// Stop propagating beyond this distance (farther vertices are `inf`).
     #[arg(long, value_name = "D")]
     pub max_distance: Option<f64>,
-    /// Parallel algorithms (`pvtp`, `pvtp-regions`, `pavtp`): worker threads (default: every logical
-    /// CPU). Results are identical from run to run: for `pvtp` for a given count, for
-    /// `pvtp-regions` and `pavtp` for every count.
+    /// Parallel algorithms (`pvtp`, `pvtp-rounds`, `pavtp`): worker threads (default: every logical
+    /// CPU). Results are identical from run to run: for `pvtp` and `pavtp` for every count, for
+    /// `pvtp-rounds` (the paper's schedule) for a given count.
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
     /// Approximate algorithms (`avtp`): reset the windows every L mean edge

@@ -398,7 +398,7 @@ fn a_needle_is_refused_by_name_solved_by_mmp_and_flagged_by_info() {
     let mesh = dir.join("needle.off");
     write_needle(&mesh);
     let out = dir.join("d.txt");
-    for algorithm in ["vtp", "pvtp-regions", "avtp", "ich"] {
+    for algorithm in ["vtp", "pvtp", "avtp", "ich"] {
         let stderr = refuse(&[
             "distance",
             s(&mesh),

@@ -4,11 +4,17 @@
 //! windows of `geodesics-window` and following our sequential VTP
 //! (`geodesics-vtp`) in every geometric case.
 //!
-//! A round pops the nearest vertices from distance buckets (width `h/τ`,
-//! Section 4.2) until `k_ad` vertices (adapted by Eq. 5) or `K = 100·T`
-//! face jobs (Eq. 6; a face job holds the up to three window lists of one
-//! face; counted by the popped vertices' fan sizes) are ready, then
-//! propagates lists in *phases*: all lists of a
+//! Two schedules cut the work for the threads ([`Schedule`]): regions of
+//! space in distance bands, the default, and the paper's rounds. Both are
+//! exact. The regions scale better and give the same bits for every
+//! thread count; the rounds follow Algorithm 2 step by step, for
+//! comparisons with the paper.
+//!
+//! [`Schedule::Rounds`]: a round pops the nearest vertices from distance
+//! buckets (width `h/τ`, Section 4.2) until `k_ad` vertices (adapted by
+//! Eq. 5) or `K = 100·T` face jobs (Eq. 6; a face job holds the up to
+//! three window lists of one face; counted by the popped vertices' fan
+//! sizes) are ready, then propagates lists in *phases*: all lists of a
 //! phase cross their faces in parallel on a crew of `T` threads (the
 //! calling thread and `T − 1` helpers spawned once per solve on a rayon
 //! pool of `T` threads, which wait for the next phase spinning rather than
@@ -27,15 +33,15 @@
 //! merging) and **deterministic**: the same input and `T` give the same
 //! bits on every run, whatever the thread timing.
 //!
-//! [`Schedule::Regions`] cuts the work differently, with no one-thread part
-//! between the parallel steps: the faces are cut into regions of space,
-//! each running sequential VTP on its own faces up to a distance bound
-//! that grows band by band (Du et al.'s buckets); windows and distances
-//! that cross into another region are delayed to the next band and read
-//! in a fixed order, so the result is the same bits for every thread
-//! count. A thread out of one band's regions starts the next band in
-//! regions whose neighbours are done with this one, so the threads seldom
-//! wait at a band's end. On 2 CPUs it scales better than the rounds
+//! [`Schedule::Regions`], the default, cuts the work differently, with no
+//! one-thread part between the parallel steps: the faces are cut into
+//! regions of space, each running sequential VTP on its own faces up to a
+//! distance bound that grows band by band (Du et al.'s buckets); windows
+//! and distances that cross into another region are delayed to the next
+//! band and read in a fixed order, so the result is the same bits for
+//! every thread count. A thread out of one band's regions starts the next
+//! band in regions whose neighbours are done with this one, so the threads
+//! seldom wait at a band's end. On 2 CPUs it scales better than the rounds
 //! (1.83–2.03× against 1.61–1.83× on 235K–871K faces, `cargo xtask
 //! pvtp`, two runs on one day) and runs at 0.91–0.98× VTP's speed on one
 //! thread, so it reaches 1.75–1.88× VTP on two (the rounds 1.50–1.70×),
@@ -136,15 +142,16 @@ pub enum Schedule {
     /// Du et al.'s rounds (the crate docs): one thread selects the nearest
     /// vertices, the threads propagate their faces' lists, one thread
     /// applies the delayed writes. Bit-identical from run to run for a
-    /// given thread count.
-    #[default]
+    /// given thread count. The paper's Algorithm 2, kept for comparisons
+    /// with it (`pvtp-rounds` in `geodesics` and the CLI).
     Rounds,
-    /// Regions of space, each running sequential VTP on its own faces up
-    /// to a distance bound that grows band by band; windows and distances
-    /// crossing into another region are delayed to the next band. No
-    /// one-thread part between bands, so it scales further and suffers
-    /// less when the cores talk slowly; 2–9 % slower than VTP on one
-    /// thread (by mesh and run). The same bits for every thread count.
+    /// The default: regions of space, each running sequential VTP on its
+    /// own faces up to a distance bound that grows band by band; windows
+    /// and distances crossing into another region are delayed to the next
+    /// band. No one-thread part between bands, so it scales further and
+    /// suffers less when the cores talk slowly; 2–9 % slower than VTP on
+    /// one thread (by mesh and run). The same bits for every thread count.
+    #[default]
     Regions,
 }
 
@@ -321,9 +328,13 @@ mod tests {
         Mesh::build(soup, &BuildOptions::default()).expect("valid test mesh")
     }
 
-    fn run(mesh: &Mesh, sources: &[Source], threads: usize) -> DistanceField {
+    /// Both schedules, each test runs on each.
+    const SCHEDULES: [Schedule; 2] = [Schedule::Regions, Schedule::Rounds];
+
+    fn run(mesh: &Mesh, sources: &[Source], threads: usize, schedule: Schedule) -> DistanceField {
         let options = PvtpOptions {
             threads,
+            schedule,
             ..PvtpOptions::default()
         };
         solve(mesh, sources, &options).expect("valid input").0
@@ -353,13 +364,16 @@ mod tests {
         let mesh = build(soup.clone());
         for source in [0u32, 20 * 41 + 17] {
             let s = soup.positions[source as usize];
-            for threads in [1, 2, 3, 8] {
-                let field = run(&mesh, &[Source::Vertex(source)], threads);
+            for (threads, schedule) in [1, 2, 3, 8]
+                .into_iter()
+                .flat_map(|t| SCHEDULES.map(|s| (t, s)))
+            {
+                let field = run(&mesh, &[Source::Vertex(source)], threads, schedule);
                 for (v, d) in field.distance.iter().enumerate() {
                     let exact = soup.positions[v].distance(s);
                     assert!(
                         (d - exact).abs() < 1e-13,
-                        "T={threads}: vertex {v}: {d} vs {exact}"
+                        "{schedule:?}, T={threads}: vertex {v}: {d} vs {exact}"
                     );
                 }
             }
@@ -377,26 +391,28 @@ mod tests {
         let h = 3 * 100 + 1;
         let e = soup.positions[mesh.tail(h) as usize] * 0.7
             + soup.positions[mesh.head(h) as usize] * 0.3;
-        let field = run(
-            &mesh,
-            &[
-                Source::FacePoint {
-                    face: f,
-                    barycentric: bary,
-                },
-                Source::EdgePoint {
-                    half_edge: h,
-                    t: 0.3,
-                },
-            ],
-            2,
-        );
-        for (v, (&d, &s)) in field.distance.iter().zip(&field.nearest_source).enumerate() {
-            let p = soup.positions[v];
-            let (dq, de) = (p.distance(q), p.distance(e));
-            assert!((d - dq.min(de)).abs() < 1e-13, "vertex {v}");
-            let own = if s == 0 { dq } else { de };
-            assert!((own - d).abs() < 1e-13, "vertex {v}: nearest source {s}");
+        let sources = [
+            Source::FacePoint {
+                face: f,
+                barycentric: bary,
+            },
+            Source::EdgePoint {
+                half_edge: h,
+                t: 0.3,
+            },
+        ];
+        for schedule in SCHEDULES {
+            let field = run(&mesh, &sources, 2, schedule);
+            for (v, (&d, &s)) in field.distance.iter().zip(&field.nearest_source).enumerate() {
+                let p = soup.positions[v];
+                let (dq, de) = (p.distance(q), p.distance(e));
+                assert!((d - dq.min(de)).abs() < 1e-13, "{schedule:?}: vertex {v}");
+                let own = if s == 0 { dq } else { de };
+                assert!(
+                    (own - d).abs() < 1e-13,
+                    "{schedule:?}: vertex {v}: nearest source {s}"
+                );
+            }
         }
     }
 
@@ -408,16 +424,19 @@ mod tests {
         let mesh = build(geodesics_shapes::bumpy_sphere(3, 1.0, 12, 0.15, 7));
         let sources = [Source::Vertex(0), Source::Vertex(100)];
         let reference = vtp(&mesh, &sources);
-        for threads in [1, 2, 8] {
-            let a = run(&mesh, &sources, threads);
-            let b = run(&mesh, &sources, threads);
+        for (threads, schedule) in [1, 2, 8]
+            .into_iter()
+            .flat_map(|t| SCHEDULES.map(|s| (t, s)))
+        {
+            let a = run(&mesh, &sources, threads, schedule);
+            let b = run(&mesh, &sources, threads, schedule);
             assert!(
                 a.distance
                     .iter()
                     .zip(&b.distance)
                     .all(|(x, y)| x.to_bits() == y.to_bits())
                     && a.nearest_source == b.nearest_source,
-                "T={threads}: two runs differ"
+                "{schedule:?}, T={threads}: two runs differ"
             );
             assert!(max_diff(&a.distance, &reference.distance) < 1e-13);
         }
@@ -437,11 +456,11 @@ mod tests {
         };
         let mesh = build(soup);
         let reference = vtp(&mesh, &[Source::Vertex(0)]);
-        for threads in [1, 2] {
-            let field = run(&mesh, &[Source::Vertex(0)], threads);
+        for (threads, schedule) in [1, 2].into_iter().flat_map(|t| SCHEDULES.map(|s| (t, s))) {
+            let field = run(&mesh, &[Source::Vertex(0)], threads, schedule);
             for (v, (&d, &r)) in field.distance.iter().zip(&reference.distance).enumerate() {
-                assert_eq!(d, v as f64, "T={threads}: vertex {v}");
-                assert_eq!(d, r, "T={threads}: vertex {v} against VTP");
+                assert_eq!(d, v as f64, "{schedule:?}, T={threads}: vertex {v}");
+                assert_eq!(d, r, "{schedule:?}, T={threads}: vertex {v} against VTP");
             }
         }
     }
@@ -467,16 +486,18 @@ mod tests {
             triangles: vec![[0, 1, 2], [0, 2, 3], [2, 4, 5], [2, 5, 6], [7, 8, 9]],
         };
         let mesh = build(soup);
-        let field = run(&mesh, &[Source::Vertex(0)], 2);
         let reference = vtp(&mesh, &[Source::Vertex(0)]);
-        assert!((field.distance[5] - 2.0 * 2f64.sqrt()).abs() < 1e-14);
-        assert!((field.distance[4] - (2f64.sqrt() + 1.0)).abs() < 1e-14);
-        assert!(field.distance[7..].iter().all(|d| d.is_infinite()));
-        assert_eq!(
-            &field.nearest_source[7..],
-            &[geodesics_window::NO_SOURCE; 3]
-        );
-        assert!(max_diff(&field.distance, &reference.distance) < 1e-14);
+        for schedule in SCHEDULES {
+            let field = run(&mesh, &[Source::Vertex(0)], 2, schedule);
+            assert!((field.distance[5] - 2.0 * 2f64.sqrt()).abs() < 1e-14);
+            assert!((field.distance[4] - (2f64.sqrt() + 1.0)).abs() < 1e-14);
+            assert!(field.distance[7..].iter().all(|d| d.is_infinite()));
+            assert_eq!(
+                &field.nearest_source[7..],
+                &[geodesics_window::NO_SOURCE; 3]
+            );
+            assert!(max_diff(&field.distance, &reference.distance) < 1e-14);
+        }
     }
 
     #[test]
@@ -515,18 +536,20 @@ mod tests {
     }
 
     #[test]
-    fn statistics_are_counted() {
+    fn rounds_count_their_statistics() {
         let mesh = build(geodesics_shapes::icosphere(3, 1.0));
         let (_, stats) = solve(
             &mesh,
             &[Source::Vertex(0)],
             &PvtpOptions {
                 threads: 0,
+                schedule: Schedule::Rounds,
                 ..PvtpOptions::default()
             },
         )
         .unwrap();
         assert_windows_counted(&stats);
+        // One copy of each vertex, popped once.
         assert_eq!(stats.vertex_pops as usize, mesh.vertex_count());
         assert!(stats.total_seconds > 0.0);
     }

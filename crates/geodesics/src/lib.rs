@@ -98,9 +98,9 @@ pub enum Algorithm {
     /// MMP (Surazhsky et al. 2005), exact, with a window priority queue or
     /// FWP's distance buckets (Xu et al. 2015).
     Mmp(MmpOptions),
-    /// Parallel VTP (Du et al. 2021), exact: in the paper's rounds
-    /// (`pvtp`, deterministic per thread count) or in regions of space
-    /// (`pvtp-regions`, the same bits for every thread count).
+    /// Parallel VTP (Du et al. 2021), exact: in regions of space (`pvtp`,
+    /// the default schedule: the same bits for every thread count) or in
+    /// the paper's rounds (`pvtp-rounds`, deterministic per thread count).
     Pvtp(PvtpOptions),
     /// ICH (Xin and Wang 2009), exact, with a window priority queue or FWP's
     /// distance buckets (FWP-CH).
@@ -127,7 +127,7 @@ impl Algorithm {
         "ich",
         "fwp-ch",
         "pvtp",
-        "pvtp-regions",
+        "pvtp-rounds",
         "avtp",
         "pavtp",
     ];
@@ -144,8 +144,8 @@ impl Algorithm {
                 geodesics_mmp::Schedule::Fwp => "fwp-mmp",
             },
             Algorithm::Pvtp(o) => match o.schedule {
-                geodesics_pvtp::Schedule::Rounds => "pvtp",
-                geodesics_pvtp::Schedule::Regions => "pvtp-regions",
+                geodesics_pvtp::Schedule::Regions => "pvtp",
+                geodesics_pvtp::Schedule::Rounds => "pvtp-rounds",
             },
             Algorithm::Ich(o) => match o.schedule {
                 geodesics_ich::Schedule::PriorityQueue => "ich",
@@ -276,9 +276,11 @@ impl FromStr for Algorithm {
                 threads: Some(0),
                 ..AvtpOptions::default()
             })),
-            "pvtp" => Ok(Algorithm::Pvtp(PvtpOptions::default())),
-            "pvtp-regions" => Ok(Algorithm::Pvtp(PvtpOptions {
-                schedule: geodesics_pvtp::Schedule::Regions,
+            // `pvtp-regions`: the region schedule's name before it became
+            // the default.
+            "pvtp" | "pvtp-regions" => Ok(Algorithm::Pvtp(PvtpOptions::default())),
+            "pvtp-rounds" => Ok(Algorithm::Pvtp(PvtpOptions {
+                schedule: geodesics_pvtp::Schedule::Rounds,
                 ..PvtpOptions::default()
             })),
             "ich" => Ok(Algorithm::Ich(IchOptions::ich())),
@@ -416,11 +418,14 @@ mod tests {
             let a: Algorithm = name.parse().unwrap();
             assert_eq!(a.name(), name);
         }
+        // The region schedule's name from before it became the default.
+        let old: Algorithm = "pvtp-regions".parse().unwrap();
+        assert_eq!(old.name(), "pvtp");
         let err = "dijkstra".parse::<Algorithm>().unwrap_err();
         assert_eq!(
             err.to_string(),
             "unknown algorithm `dijkstra` (known: vtp, ftp, opvtp, opftp, vtp-order-free, vtp-mmp, vtp-ch, \
-             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, vtp-full-emission, mmp, fwp-mmp, ich, fwp-ch, pvtp, pvtp-regions, avtp, pavtp)"
+             vtp-exhaustive, vtp-trimming, vtp-no-rule1, vtp-no-rules23, vtp-full-emission, mmp, fwp-mmp, ich, fwp-ch, pvtp, pvtp-rounds, avtp, pavtp)"
         );
     }
 
