@@ -103,15 +103,17 @@ use geodesics_mesh::Mesh;
 pub struct PvtpOptions {
     /// Threads of the rayon pool the solve runs on; `0` means rayon's
     /// default (the number of logical CPUs, or `RAYON_NUM_THREADS`); at most
-    /// [`max_threads`]. More than the machine's CPUs run, but slower. The
-    /// result depends on it only through the order of work (it is exact
-    /// for every value, and bit-identical between runs with the same value).
+    /// [`max_threads`]. More than the machine's CPUs run, but slower. On
+    /// the default schedule the result does not depend on it at all; on
+    /// the rounds only through the order of work (it is exact for every
+    /// value, and bit-identical between runs with the same value).
     pub threads: usize,
     /// Stop the wavefront beyond this distance; vertices farther away are
     /// reported unreachable (`f64::INFINITY`).
     pub max_distance: Option<f64>,
     /// PAVTP (approximate): AVTP's window reset on top of PVTP, between
-    /// rounds. `None` (the default) is exact PVTP.
+    /// bands (between rounds on the rounds schedule). `None` (the
+    /// default) is exact PVTP.
     pub reset: Option<WindowReset>,
     /// Where the solve reports how far its wavefront has come (see
     /// [`Progress`]); the default reports nowhere.
