@@ -20,7 +20,7 @@
 //!   error falls per doubling of λ, from vertex 0 and averaged over 8
 //!   sources.
 //! - `cargo xtask pvtp [--runs N] [--large]`: PVTP's scaling, both
-//!   schedules (the paper's rounds and the regions), T = 1, 2, …
+//!   schedules (the default regions and the paper's rounds), T = 1, 2, …
 //!   up to the machine's CPUs, against VTP in the same run, on the
 //!   Loop-subdivided bunnies and the welded dragon, with the time each solve
 //!   spends outside its parallel phases (what bounds the speed-up), T
