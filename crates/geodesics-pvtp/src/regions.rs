@@ -217,6 +217,9 @@ pub(crate) struct Prepared {
     /// The list buffers the threads held as spares when the last solve
     /// ended, handed out again to the next solve's threads.
     spares: Vec<Vec<EndedWindow>>,
+    /// How many active region bands the last solve started ahead (a
+    /// count of the schedule's work, read by the tests).
+    started_ahead: u64,
 }
 
 /// The windows one region sends another in a band, in the order it made
@@ -307,6 +310,12 @@ impl Prepared {
     #[cfg(test)]
     pub(crate) fn region_count(&self) -> usize {
         self.regions.len()
+    }
+
+    /// How many active region bands the last solve started ahead.
+    #[cfg(test)]
+    pub(crate) fn started_ahead(&self) -> u64 {
+        self.started_ahead
     }
 }
 
@@ -441,6 +450,7 @@ pub(crate) fn solve(
         bands: 0,
         resets: 0,
         peak_live: 0,
+        started_ahead: 0,
         progress: options.progress.clone(),
     };
     let team = Team {
@@ -535,6 +545,7 @@ pub(crate) fn solve(
     let management = (stats.total_seconds - band_seconds).max(0.0);
     prep.regions = regions;
     prep.spares = spares;
+    prep.started_ahead = driver.started_ahead;
     *prepared = Some(prep);
     (
         field,
@@ -836,6 +847,7 @@ fn build(mesh: &Mesh, cell: f64) -> Prepared {
         copies,
         neighbours,
         spares: Vec::new(),
+        started_ahead: 0,
     }
 }
 
@@ -889,6 +901,8 @@ struct Driver {
     bands: u64,
     resets: u64,
     peak_live: u64,
+    /// Active region bands the threads started ahead.
+    started_ahead: u64,
     progress: Progress,
 }
 
@@ -988,6 +1002,7 @@ impl Driver {
                     }
                 }
             }
+            self.started_ahead += early as u64;
             let mut least = f64::from_bits(
                 post.least_mailed[last].swap(f64::INFINITY.to_bits(), Ordering::Acquire),
             );
@@ -2020,15 +2035,15 @@ mod tests {
     use geodesics_mesh::BuildOptions;
 
     /// Solves on regions `cell_edges` mean edges wide with `threads`
-    /// threads; returns the distances' bits, the propagations and the
-    /// bands.
+    /// threads; returns the distances' bits, the propagations, the bands,
+    /// the regions and the region bands started ahead.
     fn small_regions(
         mesh: &Mesh,
         sources: &[Source],
         reset: Option<WindowReset>,
         cell_edges: f64,
         threads: usize,
-    ) -> (Vec<u64>, u64, u64, usize) {
+    ) -> (Vec<u64>, u64, u64, usize, u64) {
         let mut prepared = Some(build(mesh, cell_edges * mesh.average_edge_length()));
         let regions = prepared.as_ref().map_or(0, Prepared::region_count);
         let options = PvtpOptions {
@@ -2051,11 +2066,13 @@ mod tests {
             )
         });
         let bits = field.distance.iter().map(|d| d.to_bits()).collect();
+        let ahead = prepared.as_ref().map_or(0, Prepared::started_ahead);
         (
             bits,
             stats.window_propagations,
             stats.parallel_phases,
             regions,
+            ahead,
         )
     }
 
@@ -2084,13 +2101,21 @@ mod tests {
                     );
                 }
             }
+            // One thread never starts a band ahead: it runs each band's
+            // regions itself, then picks the next band.
+            assert_eq!(one.4, 0);
+            let mut ahead = 0;
             for threads in [2, 3, 4] {
                 for _ in 0..3 {
                     let other = small_regions(&mesh, &sources, reset, 3.0, threads);
                     assert!(other.0 == one.0, "T={threads}, reset {reset:?}: other bits");
                     assert_eq!((other.1, other.2), (one.1, one.2), "T={threads}");
+                    ahead += other.4;
                 }
             }
+            // What the test is about did happen (thousands of times when
+            // measured; how many depends on the threads' timing).
+            assert!(ahead > 0, "reset {reset:?}: no band started ahead");
         }
     }
 
