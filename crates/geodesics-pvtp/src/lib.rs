@@ -333,6 +333,11 @@ mod tests {
     /// Both schedules, each test runs on each.
     const SCHEDULES: [Schedule; 2] = [Schedule::Regions, Schedule::Rounds];
 
+    /// Every pair of a thread count of `threads` and a schedule.
+    fn cases(threads: &[usize]) -> impl Iterator<Item = (usize, Schedule)> + '_ {
+        threads.iter().flat_map(|&t| SCHEDULES.map(|s| (t, s)))
+    }
+
     fn run(mesh: &Mesh, sources: &[Source], threads: usize, schedule: Schedule) -> DistanceField {
         let options = PvtpOptions {
             threads,
@@ -366,10 +371,7 @@ mod tests {
         let mesh = build(soup.clone());
         for source in [0u32, 20 * 41 + 17] {
             let s = soup.positions[source as usize];
-            for (threads, schedule) in [1, 2, 3, 8]
-                .into_iter()
-                .flat_map(|t| SCHEDULES.map(|s| (t, s)))
-            {
+            for (threads, schedule) in cases(&[1, 2, 3, 8]) {
                 let field = run(&mesh, &[Source::Vertex(source)], threads, schedule);
                 for (v, d) in field.distance.iter().enumerate() {
                     let exact = soup.positions[v].distance(s);
@@ -426,10 +428,7 @@ mod tests {
         let mesh = build(geodesics_shapes::bumpy_sphere(3, 1.0, 12, 0.15, 7));
         let sources = [Source::Vertex(0), Source::Vertex(100)];
         let reference = vtp(&mesh, &sources);
-        for (threads, schedule) in [1, 2, 8]
-            .into_iter()
-            .flat_map(|t| SCHEDULES.map(|s| (t, s)))
-        {
+        for (threads, schedule) in cases(&[1, 2, 8]) {
             let a = run(&mesh, &sources, threads, schedule);
             let b = run(&mesh, &sources, threads, schedule);
             assert!(
@@ -458,7 +457,7 @@ mod tests {
         };
         let mesh = build(soup);
         let reference = vtp(&mesh, &[Source::Vertex(0)]);
-        for (threads, schedule) in [1, 2].into_iter().flat_map(|t| SCHEDULES.map(|s| (t, s))) {
+        for (threads, schedule) in cases(&[1, 2]) {
             let field = run(&mesh, &[Source::Vertex(0)], threads, schedule);
             for (v, (&d, &r)) in field.distance.iter().zip(&reference.distance).enumerate() {
                 assert_eq!(d, v as f64, "{schedule:?}, T={threads}: vertex {v}");
